@@ -1,0 +1,15 @@
+#pragma once
+// Write-to-temporary-then-rename, so that readers never see a half-written output.
+
+#include <filesystem>
+#include <functional>
+#include <ostream>
+
+namespace poreshell {
+
+// Calls `write` with a stream to a temporary file next to `path`, then renames it over `path`.
+// On any failure the temporary file is removed and the error is rethrown.
+void write_atomically(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write,
+                      bool binary = true);
+
+}  // namespace poreshell

@@ -1,0 +1,220 @@
+#include "poreshell/band.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "poreshell/error.hpp"
+
+namespace poreshell {
+namespace {
+
+constexpr int kBlock = 8;  // side of the blocks the Lipschitz bound accepts or skips whole
+constexpr std::array<Coord, 6> kOffsets{
+    {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}}};
+
+Coord add(const Coord& a, const Coord& b) {
+  return {a.i + b.i, a.j + b.j, a.k + b.k};
+}
+
+// psi and its central-difference gradient grad_h psi at a grid point (section 2).
+struct LevelSetSample {
+  double psi;
+  Vec3 gradient;
+};
+
+LevelSetSample sample_level_set(const Surface& surface, const Grid& grid, const Coord& c) {
+  const Vec3 x = grid.position(c);
+  const double h = grid.h();
+  Vec3 g;
+  for (int a = 0; a < 3; ++a) {
+    Vec3 e = Vec3::Zero();
+    e[a] = h;
+    g[a] = (surface.distance(x + e) - surface.distance(x - e)) / (2.0 * h);
+  }
+  return {surface.distance(x), g};
+}
+
+bool in_band(const LevelSetSample& s, double delta) {
+  return std::abs(s.psi) < delta * s.gradient.norm();
+}
+
+// Candidate voxels of one block: those that satisfy the band rule.
+void scan_block(const Surface& surface, const Grid& grid, const Coord& block_origin, double delta,
+                std::vector<std::int64_t>& out) {
+  const auto& d = grid.dims();
+  for (int k = block_origin.k; k < std::min(block_origin.k + kBlock, d[2]); ++k)
+    for (int j = block_origin.j; j < std::min(block_origin.j + kBlock, d[1]); ++j)
+      for (int i = block_origin.i; i < std::min(block_origin.i + kBlock, d[0]); ++i) {
+        const Coord c{i, j, k};
+        const double psi = surface.distance(grid.position(c));
+        // |grad_h psi| <= sqrt(3) for a 1-Lipschitz psi: skip the gradient where it cannot matter.
+        if (std::abs(psi) >= delta * std::sqrt(3.0)) continue;
+        if (in_band(sample_level_set(surface, grid, c), delta)) out.push_back(grid.key(c));
+      }
+}
+
+std::vector<std::int64_t> scan_band_keys(const Surface& surface, const Grid& grid, double delta,
+                                         BandStats& stats) {
+  const auto& d = grid.dims();
+  const std::array<int, 3> blocks{(d[0] + kBlock - 1) / kBlock, (d[1] + kBlock - 1) / kBlock,
+                                  (d[2] + kBlock - 1) / kBlock};
+  const std::int64_t block_count = std::int64_t{blocks[0]} * blocks[1] * blocks[2];
+  const double half_diagonal = 0.5 * std::sqrt(3.0) * kBlock * grid.h();
+  std::vector<std::vector<std::int64_t>> per_block(static_cast<std::size_t>(block_count));
+  std::vector<char> visited(static_cast<std::size_t>(block_count), 0);
+  tbb::parallel_for(std::int64_t{0}, block_count, [&](std::int64_t b) {
+    const Coord origin{static_cast<int>(b % blocks[0]) * kBlock,
+                       static_cast<int>((b / blocks[0]) % blocks[1]) * kBlock,
+                       static_cast<int>(b / (std::int64_t{blocks[0]} * blocks[1])) * kBlock};
+    const Vec3 center = grid.position(origin) + Vec3::Constant(0.5 * (kBlock - 1) * grid.h());
+    if (std::abs(surface.distance(center)) > half_diagonal + delta * std::sqrt(3.0)) return;
+    visited[static_cast<std::size_t>(b)] = 1;
+    scan_block(surface, grid, origin, delta, per_block[static_cast<std::size_t>(b)]);
+  });
+  std::vector<std::int64_t> keys;
+  for (std::size_t b = 0; b < per_block.size(); ++b) {
+    stats.candidate_blocks += visited[b];
+    keys.insert(keys.end(), per_block[b].begin(), per_block[b].end());
+  }
+  std::sort(keys.begin(), keys.end());
+  return keys;
+}
+
+// Closest point of a ghost: exact where the surface gives one, else the paper's formula.
+Vec3 ghost_closest_point(const Surface& surface, const Grid& grid, const Coord& c, ClosestPointRule rule) {
+  if (rule == ClosestPointRule::exact)
+    if (auto cp = surface.closest_point(grid.position(c))) return *cp;
+  const LevelSetSample s = sample_level_set(surface, grid, c);
+  const double g2 = s.gradient.squaredNorm();
+  if (!(g2 > 0.0)) throw InputError("the distance function has no gradient at a ghost point");
+  return grid.position(c) - s.gradient * (s.psi / g2);
+}
+
+}  // namespace
+
+std::int64_t NarrowBand::find(const Coord& c) const {
+  if (!grid_.contains(c)) return -1;
+  const std::int64_t key = grid_.key(c);
+  const auto it = std::lower_bound(keys_.begin(), keys_.end(), key);
+  return (it != keys_.end() && *it == key) ? it - keys_.begin() : -1;
+}
+
+void NarrowBand::fill_ghosts(std::span<double> extended) const {
+  const std::size_t n = voxels_.size();
+  tbb::parallel_for(std::size_t{0}, stencils_.size(), [&](std::size_t g) {
+    const GhostStencil& s = stencils_[g];
+    double v = 0.0;
+    for (int c = 0; c < 8; ++c) v += s.weight[c] * extended[s.corner[c]];
+    extended[n + g] = v;
+  });
+}
+
+std::size_t NarrowBand::memory_bytes() const {
+  return voxels_.capacity() * sizeof(Coord) + keys_.capacity() * sizeof(std::int64_t) +
+         distance_.capacity() * sizeof(double) + ghosts_.capacity() * sizeof(Coord) +
+         neighbors_.capacity() * sizeof(std::int32_t) + stencils_.capacity() * sizeof(GhostStencil);
+}
+
+NarrowBand build_band(const Surface& surface, const Grid& grid, const BandOptions& options) {
+  NarrowBand band(grid);
+  const double delta = options.delta_in_h * grid.h();
+  std::vector<std::int64_t> keys = scan_band_keys(surface, grid, delta, band.stats_);
+  if (keys.empty())
+    throw InputError(
+        "the narrow band is empty: the surface does not cross the grid; check its size and position");
+  if (keys.size() >= static_cast<std::size_t>(INT32_MAX / 2))
+    throw InputError("the narrow band has too many voxels for 32-bit indices: use a coarser resolution");
+
+  // Closure: every corner of every ghost's interpolation cell must be a band voxel. Corners are within
+  // sqrt(3) h of the surface, so for a true distance function the rule already holds; add the rare
+  // exceptions (curved level sets with |grad_h psi| < 1) and rebuild the ghosts.
+  for (int round = 0;; ++round) {
+    band.keys_ = keys;
+    band.voxels_.resize(keys.size());
+    for (std::size_t v = 0; v < keys.size(); ++v) band.voxels_[v] = grid.coord(keys[v]);
+
+    std::vector<std::int64_t> ghost_keys;
+    for (const Coord& c : band.voxels_)
+      for (const Coord& o : kOffsets) {
+        const Coord nb = add(c, o);
+        if (!grid.contains(nb))
+          throw InputError("the narrow band touches the edge of the grid: enlarge the domain or add padding");
+        if (band.find(nb) < 0) ghost_keys.push_back(grid.key(nb));
+      }
+    std::sort(ghost_keys.begin(), ghost_keys.end());
+    ghost_keys.erase(std::unique(ghost_keys.begin(), ghost_keys.end()), ghost_keys.end());
+    band.ghosts_.resize(ghost_keys.size());
+    for (std::size_t g = 0; g < ghost_keys.size(); ++g) band.ghosts_[g] = grid.coord(ghost_keys[g]);
+
+    band.stencils_.assign(ghost_keys.size(), {});
+    std::vector<std::vector<std::int64_t>> missing(ghost_keys.size());
+    std::vector<double> offsets(ghost_keys.size(), 0.0);
+    tbb::parallel_for(std::size_t{0}, ghost_keys.size(), [&](std::size_t g) {
+      const Coord c = band.ghosts_[g];
+      const Vec3 cp = ghost_closest_point(surface, grid, c, options.closest_point);
+      offsets[g] = (cp - grid.position(c)).norm() / grid.h();
+      const Vec3 q = grid.to_index_space(cp);
+      const Coord base{static_cast<int>(std::floor(q.x())), static_cast<int>(std::floor(q.y())),
+                       static_cast<int>(std::floor(q.z()))};
+      const Vec3 t = q - Vec3(base.i, base.j, base.k);
+      GhostStencil& s = band.stencils_[g];
+      for (int corner = 0; corner < 8; ++corner) {
+        const int di = corner & 1, dj = (corner >> 1) & 1, dk = (corner >> 2) & 1;
+        const Coord cc{base.i + di, base.j + dj, base.k + dk};
+        s.weight[corner] = (di ? t.x() : 1 - t.x()) * (dj ? t.y() : 1 - t.y()) * (dk ? t.z() : 1 - t.z());
+        const std::int64_t idx = band.find(cc);
+        s.corner[corner] = static_cast<std::int32_t>(std::max<std::int64_t>(idx, 0));
+        if (idx < 0) {
+          if (!grid.contains(cc)) throw InputError("a closest point lies outside the grid: add padding");
+          missing[g].push_back(grid.key(cc));
+        }
+      }
+    });
+    std::vector<std::int64_t> added;
+    for (const auto& m : missing) added.insert(added.end(), m.begin(), m.end());
+    if (added.empty()) {
+      band.stats_.max_closest_point_offset = *std::max_element(offsets.begin(), offsets.end());
+      break;
+    }
+    if (round == 8) throw std::runtime_error("narrow band closure did not settle after 8 rounds");
+    std::sort(added.begin(), added.end());
+    added.erase(std::unique(added.begin(), added.end()), added.end());
+    band.stats_.closure_added += static_cast<std::int64_t>(added.size());
+    keys.insert(keys.end(), added.begin(), added.end());
+    std::sort(keys.begin(), keys.end());
+  }
+
+  band.neighbors_.resize(band.voxels_.size() * NarrowBand::kNeighbors);
+  const auto n = static_cast<std::int64_t>(band.voxels_.size());
+  tbb::parallel_for(std::size_t{0}, band.voxels_.size(), [&](std::size_t v) {
+    for (int o = 0; o < NarrowBand::kNeighbors; ++o) {
+      const Coord nb = add(band.voxels_[v], kOffsets[o]);
+      std::int64_t idx = band.find(nb);
+      if (idx < 0) {
+        const std::int64_t key = grid.key(nb);
+        const auto it = std::lower_bound(band.ghosts_.begin(), band.ghosts_.end(), key,
+                                         [&](const Coord& a, std::int64_t b) { return grid.key(a) < b; });
+        idx = n + (it - band.ghosts_.begin());
+      }
+      band.neighbors_[v * NarrowBand::kNeighbors + o] = static_cast<std::int32_t>(idx);
+    }
+  });
+
+  // The paper's ghost set is { I |grad_h I| != 0 }: ghosts with an unbalanced band neighbour pair.
+  for (const Coord& g : band.ghosts_) {
+    bool paper = false;
+    for (int a = 0; a < 3; ++a)
+      paper |= (band.find(add(g, kOffsets[2 * a])) >= 0) != (band.find(add(g, kOffsets[2 * a + 1])) >= 0);
+    band.stats_.paper_ghosts += paper;
+  }
+
+  band.distance_.resize(band.voxels_.size());
+  tbb::parallel_for(std::size_t{0}, band.voxels_.size(), [&](std::size_t v) {
+    band.distance_[v] = surface.distance(grid.position(band.voxels_[v]));
+  });
+  return band;
+}
+
+}  // namespace poreshell

@@ -1,0 +1,88 @@
+#pragma once
+// The discrete narrow band of section 2, stored as compact arrays:
+//   band voxels  Omega_delta^h = { |psi| < delta |grad_h psi| },  delta = 1.1 sqrt(3) h,
+//   ghost points: the grid points outside the band that the band's 7-point Laplacian touches,
+//   for each ghost the trilinear stencil (8 band voxels and weights) at its closest point cp(x).
+// Nothing here is sized by Nx*Ny*Nz: memory and time grow with the band.
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "poreshell/grid.hpp"
+#include "poreshell/surface.hpp"
+
+namespace poreshell {
+
+enum class ClosestPointRule {
+  exact,           // the surface's own closest point (falls back to the paper's formula if it has none)
+  paper_gradient,  // cp(x) = x - grad_h psi / |grad_h psi|^2 * psi (section 2)
+};
+
+struct BandOptions {
+  double delta_in_h = 1.1 * 1.7320508075688772;  // delta / h
+  ClosestPointRule closest_point = ClosestPointRule::exact;
+};
+
+struct GhostStencil {
+  std::array<std::int32_t, 8> corner;  // band indices of the cell corners around cp(x)
+  std::array<double, 8> weight;        // trilinear weights, summing to 1
+};
+
+struct BandStats {
+  std::int64_t candidate_blocks = 0;      // 8^3 blocks the Lipschitz bound could not skip
+  std::int64_t paper_ghosts = 0;          // ghosts that satisfy the paper's I|grad_h I| != 0
+  std::int64_t closure_added = 0;         // voxels added so that every stencil corner is a band voxel
+  double max_closest_point_offset = 0.0;  // max |cp(x) - x| / h over ghosts
+};
+
+class NarrowBand {
+ public:
+  static constexpr int kNeighbors = 6;  // order: -x, +x, -y, +y, -z, +z
+
+  explicit NarrowBand(const Grid& grid) : grid_(grid) {}
+
+  const Grid& grid() const { return grid_; }
+  std::size_t size() const { return voxels_.size(); }
+  std::size_t ghost_count() const { return ghosts_.size(); }
+  // Length of a value array that holds the band followed by its ghosts.
+  std::size_t extended_size() const { return voxels_.size() + ghosts_.size(); }
+
+  std::span<const Coord> voxels() const { return voxels_; }
+  std::span<const Coord> ghosts() const { return ghosts_; }
+  // Signed distance psi at each band voxel, as the surface gave it.
+  std::span<const double> distance() const { return distance_; }
+  // Neighbour n of band voxel v: an index into the extended array (< size(): band; else ghost).
+  std::int32_t neighbor(std::size_t v, int n) const { return neighbors_[v * kNeighbors + n]; }
+  std::span<const std::int32_t> neighbor_table() const { return neighbors_; }
+  std::span<const GhostStencil> stencils() const { return stencils_; }
+  const BandStats& stats() const { return stats_; }
+
+  // Band index of a grid point, or -1 if it is not a band voxel (binary search; build-time use).
+  std::int64_t find(const Coord& c) const;
+
+  // Writes the ghost entries of an extended array from its band entries (closest-point extension).
+  void fill_ghosts(std::span<double> extended) const;
+
+  // Approximate heap bytes held by the band arrays.
+  std::size_t memory_bytes() const;
+
+ private:
+  friend NarrowBand build_band(const Surface&, const Grid&, const BandOptions&);
+
+  Grid grid_;
+  std::vector<Coord> voxels_;
+  std::vector<std::int64_t> keys_;  // grid keys of voxels_, ascending
+  std::vector<double> distance_;
+  std::vector<Coord> ghosts_;
+  std::vector<std::int32_t> neighbors_;
+  std::vector<GhostStencil> stencils_;
+  BandStats stats_;
+};
+
+// Builds the band of `surface` on `grid`. Throws InputError if the band would touch the grid's edge
+// or is empty.
+NarrowBand build_band(const Surface& surface, const Grid& grid, const BandOptions& options = {});
+
+}  // namespace poreshell

@@ -1,0 +1,287 @@
+#include "poreshell/isosurface.hpp"
+
+// Marching tetrahedra on the Kuhn (Freudenthal) triangulation: every cube is split into the six
+// tetrahedra around its main diagonal, the same way in every cube, so neighbouring cubes agree on
+// their shared faces. A grid point is inside when value < iso and outside otherwise; no point is
+// ever "on" the surface, so the output is the level set of a piecewise-linear field at a regular
+// value: closed, 2-manifold and free of cracks by construction, with no ambiguous cases.
+//
+// Why not openvdb::tools::volumeToMesh: its documentation promises no manifold output, and in a
+// stress test (random 12^3 fields, iso -0.3/0/0.3, adaptivity 0) it gave zero-area triangles in
+// 594 of 600 fields whose values sit exactly on an iso level (it was fine on continuous values).
+// Pore counting needs the Euler characteristic exactly, so we use a method that is correct by
+// construction; the same stress test gives valid meshes for all 1200 fields here.
+//
+// Vertices are named by the grid edge they lie on, (lower end point key, direction bits), and
+// welded by sorting those names, so the output is deterministic for any thread count. Crossing
+// parameters are clamped to [kSnap, 1 - kSnap]: every vertex stays strictly inside its edge, so
+// distinct edges give distinct points and no triangle is degenerate even when values equal iso.
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "poreshell/error.hpp"
+
+namespace poreshell {
+namespace {
+
+constexpr double kSnap = 1e-3;                // in units of the edge length
+constexpr std::size_t kCellsPerChunk = 2048;  // fixed, so chunking does not depend on threads
+
+// Cube corners are 3-bit masks (bit 0: +x, bit 1: +y, bit 2: +z).
+using Tet = std::array<int, 4>;
+
+// One surface patch per tetrahedron sign pattern: 3 or 4 tet edges (pairs of tet vertices) in
+// counter-clockwise order seen from outside (from the larger values).
+struct Patch {
+  int size = 0;
+  std::array<std::array<int, 2>, 4> edges{};
+};
+
+struct Tables {
+  std::array<Tet, 6> tets{};
+  std::array<Patch, 16> patches{};  // by inside mask over the 4 tet vertices
+};
+
+int corner_det(const Tet& t) {
+  auto v = [](int c, int a) { return (c >> a) & 1; };
+  int m[3][3];
+  for (int r = 0; r < 3; ++r)
+    for (int a = 0; a < 3; ++a) m[r][a] = v(t[r + 1], a) - v(t[0], a);
+  return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
+         m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+         m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+}
+
+Tables make_tables() {
+  Tables tables;
+  std::array<int, 3> axes{0, 1, 2};
+  int n = 0;
+  do {  // Kuhn tetrahedron: walk from corner 0 to corner 7 adding one axis at a time.
+    const int a = 1 << axes[0], b = a | (1 << axes[1]);
+    Tet t{0, a, b, 7};
+    if (corner_det(t) < 0) std::swap(t[2], t[3]);  // positive orientation for the patch table
+    tables.tets[n++] = t;
+  } while (std::next_permutation(axes.begin(), axes.end()));
+
+  // Even permutations of the tet vertices keep the orientation positive. For (p0, p1, p2, p3)
+  // positive, the triangle (p0p1, p0p2, p0p3) faces away from p0 (derivation: its normal dotted
+  // with p1 - p0 is the tet's determinant).
+  std::array<int, 4> p{0, 1, 2, 3};
+  std::vector<std::array<int, 4>> even;
+  do {
+    int inversions = 0;
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j) inversions += p[i] > p[j];
+    if (inversions % 2 == 0) even.push_back(p);
+  } while (std::next_permutation(p.begin(), p.end()));
+
+  for (int mask = 1; mask < 15; ++mask) {
+    Patch& patch = tables.patches[mask];
+    const int inside = std::popcount(static_cast<unsigned>(mask));
+    for (const auto& q : even) {
+      const bool in0 = (mask >> q[0]) & 1, in1 = (mask >> q[1]) & 1;
+      if (inside == 1 && in0) {  // faces away from the inside vertex q0
+        patch = {3, {{{q[0], q[1]}, {q[0], q[2]}, {q[0], q[3]}}}};
+        break;
+      }
+      if (inside == 3 && !in0) {  // faces towards the outside vertex q0
+        patch = {3, {{{q[0], q[1]}, {q[0], q[3]}, {q[0], q[2]}}}};
+        break;
+      }
+      if (inside == 2 && in0 && in1) {  // quad around the inside edge q0q1
+        patch = {4, {{{q[0], q[2]}, {q[0], q[3]}, {q[1], q[3]}, {q[1], q[2]}}}};
+        break;
+      }
+    }
+  }
+  return tables;
+}
+
+const Tables& tables() {
+  static const Tables t = make_tables();
+  return t;
+}
+
+// The grid padded by one layer on each side, so the cells around points on the grid boundary
+// (whose far corners hold the background) have valid keys.
+struct PaddedGrid {
+  std::int64_t nx, ny, nz;
+  std::int64_t key(const Coord& c) const { return (c.i + 1) + nx * ((c.j + 1) + ny * (c.k + 1)); }
+  std::int64_t offset(int corner) const {
+    return (corner & 1) + nx * ((corner >> 1) & 1) + nx * ny * (corner >> 2);
+  }
+  // Grid-index coordinates of a padded key (may be -1 or N).
+  Vec3 index(std::int64_t key) const {
+    return Vec3(static_cast<double>(key % nx - 1), static_cast<double>((key / nx) % ny - 1),
+                static_cast<double>(key / (nx * ny) - 1));
+  }
+};
+
+// The field as sorted (padded key, value) arrays; missing points hold the background.
+struct FieldLookup {
+  std::vector<std::int64_t> keys;
+  std::vector<double> values;
+  double background = 1.0;
+
+  double at(std::int64_t key) const {
+    const auto it = std::lower_bound(keys.begin(), keys.end(), key);
+    return it != keys.end() && *it == key ? values[it - keys.begin()] : background;
+  }
+  // Values at key and key + 1 (the next point along x) with one search.
+  std::array<double, 2> pair_at(std::int64_t key) const {
+    auto it = std::lower_bound(keys.begin(), keys.end(), key);
+    std::array<double, 2> v{background, background};
+    if (it != keys.end() && *it == key) v[0] = values[it++ - keys.begin()];
+    if (it != keys.end() && *it == key + 1) v[1] = values[it - keys.begin()];
+    return v;
+  }
+};
+
+// Crossing parameter from the edge's lower end; exactly one of va, vb is below iso.
+double crossing(double va, double vb, double iso) {
+  return std::clamp((iso - va) / (vb - va), kSnap, 1.0 - kSnap);
+}
+
+Vec3 direction(int bits) {
+  return Vec3(bits & 1, (bits >> 1) & 1, (bits >> 2) & 1);
+}
+
+using EdgeTriangle = std::array<std::int64_t, 3>;  // triangle as three edge names
+
+// Appends the triangles of one cube.
+void polygonize_cell(std::int64_t cell, const PaddedGrid& grid, const FieldLookup& field, double iso,
+                     std::vector<EdgeTriangle>& out) {
+  std::array<double, 8> v{};
+  for (int yz = 0; yz < 4; ++yz) {
+    const auto row = field.pair_at(cell + grid.offset(yz << 1));
+    v[yz << 1] = row[0];
+    v[(yz << 1) | 1] = row[1];
+  }
+  int cube_mask = 0;
+  for (int c = 0; c < 8; ++c) cube_mask |= (v[c] < iso) << c;
+  if (cube_mask == 0 || cube_mask == 0xFF) return;
+
+  for (const Tet& tet : tables().tets) {
+    int mask = 0;
+    for (int i = 0; i < 4; ++i) mask |= ((cube_mask >> tet[i]) & 1) << i;
+    const Patch& patch = tables().patches[mask];
+    if (patch.size == 0) continue;
+    std::array<std::int64_t, 4> name{};
+    std::array<Vec3, 4> pos;  // in cube-local index space, only to pick the quad diagonal
+    for (int e = 0; e < patch.size; ++e) {
+      const int a = tet[patch.edges[e][0]], b = tet[patch.edges[e][1]];
+      const int lo = a & b, bits = a ^ b;  // Kuhn edges join nested corners: lo is the lower end
+      name[e] = (cell + grid.offset(lo)) * 8 + bits;
+      pos[e] = direction(lo) + crossing(v[lo], v[lo | bits], iso) * direction(bits);
+    }
+    if (patch.size == 3) {
+      out.push_back({name[0], name[1], name[2]});
+    } else if ((pos[2] - pos[0]).squaredNorm() <= (pos[3] - pos[1]).squaredNorm()) {
+      out.push_back({name[0], name[1], name[2]});
+      out.push_back({name[0], name[2], name[3]});
+    } else {
+      out.push_back({name[1], name[2], name[3]});
+      out.push_back({name[1], name[3], name[0]});
+    }
+  }
+}
+
+FieldLookup sorted_field(const SparseField& field, const PaddedGrid& grid) {
+  std::vector<std::pair<std::int64_t, double>> entries(field.points.size());
+  for (std::size_t n = 0; n < entries.size(); ++n) {
+    if (!field.grid->contains(field.points[n]))
+      throw std::invalid_argument("isosurface: point outside the grid");
+    if (std::isnan(field.values[n])) throw std::invalid_argument("isosurface: NaN field value");
+    entries[n] = {grid.key(field.points[n]), field.values[n]};
+  }
+  tbb::parallel_sort(entries.begin(), entries.end());
+  FieldLookup lookup;
+  lookup.background = field.background;
+  lookup.keys.reserve(entries.size());
+  lookup.values.reserve(entries.size());
+  for (std::size_t n = 0; n < entries.size(); ++n) {
+    if (n > 0 && entries[n].first == entries[n - 1].first)
+      throw std::invalid_argument("isosurface: the same grid point is given twice");
+    lookup.keys.push_back(entries[n].first);
+    lookup.values.push_back(entries[n].second);
+  }
+  return lookup;
+}
+
+}  // namespace
+
+TriangleMesh extract_isosurface(const SparseField& field, double iso) {
+  if (field.grid == nullptr || field.points.size() != field.values.size())
+    throw std::invalid_argument("isosurface: field needs a grid and one value per point");
+  if (!(field.background > iso))
+    throw InputError("the iso level must be below the background value " + std::to_string(field.background));
+  const auto& dims = field.grid->dims();
+  const PaddedGrid grid{dims[0] + 2, dims[1] + 2, dims[2] + 2};
+  if (static_cast<double>(grid.nx) * static_cast<double>(grid.ny) * static_cast<double>(grid.nz) > 0x1p59)
+    throw InputError("the grid is too large for isosurface extraction; lower the resolution");
+
+  const FieldLookup lookup = sorted_field(field, grid);
+
+  // Only cubes with an inside corner can hold surface: the 8 cubes around each inside point.
+  std::vector<std::int64_t> cells;
+  for (std::size_t n = 0; n < lookup.keys.size(); ++n)
+    if (lookup.values[n] < iso)
+      for (int c = 0; c < 8; ++c) cells.push_back(lookup.keys[n] - grid.offset(c));
+  tbb::parallel_sort(cells.begin(), cells.end());
+  cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+
+  const std::size_t chunks = (cells.size() + kCellsPerChunk - 1) / kCellsPerChunk;
+  std::vector<std::vector<EdgeTriangle>> parts(chunks);
+  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+    const std::size_t end = std::min(cells.size(), (c + 1) * kCellsPerChunk);
+    for (std::size_t n = c * kCellsPerChunk; n < end; ++n)
+      polygonize_cell(cells[n], grid, lookup, iso, parts[c]);
+  });
+  std::vector<EdgeTriangle> triangles;
+  for (auto& part : parts) triangles.insert(triangles.end(), part.begin(), part.end());
+  parts.clear();
+
+  // Weld: vertex index = rank of the edge name among all names used.
+  std::vector<std::int64_t> names;
+  names.reserve(3 * triangles.size());
+  for (const auto& t : triangles) names.insert(names.end(), t.begin(), t.end());
+  tbb::parallel_sort(names.begin(), names.end());
+  names.erase(std::unique(names.begin(), names.end()), names.end());
+  if (names.size() > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()))
+    throw InputError("the isosurface has too many vertices; lower the resolution");
+
+  TriangleMesh mesh;
+  mesh.vertices.resize(names.size());
+  const Grid& g = *field.grid;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, names.size()),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t n = r.begin(); n != r.end(); ++n) {
+                        const std::int64_t lower = names[n] / 8;
+                        const int bits = static_cast<int>(names[n] % 8);
+                        const std::int64_t upper = lower + grid.offset(bits);
+                        const double t = crossing(lookup.at(lower), lookup.at(upper), iso);
+                        mesh.vertices[n] = g.origin() + g.h() * (grid.index(lower) + t * direction(bits));
+                      }
+                    });
+
+  mesh.triangles.resize(triangles.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, triangles.size()),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t f = r.begin(); f != r.end(); ++f)
+                        for (int c = 0; c < 3; ++c) {
+                          const auto it = std::lower_bound(names.begin(), names.end(), triangles[f][c]);
+                          mesh.triangles[f][c] = static_cast<std::int32_t>(it - names.begin());
+                        }
+                    });
+  return mesh;
+}
+
+}  // namespace poreshell

@@ -1,0 +1,23 @@
+#pragma once
+// Isosurface of a sparse scalar field on the grid. Values are given at a set of grid points;
+// every other grid point holds `background`. The extracted surface bounds the region where the
+// field is below `iso`, oriented outward (normals point towards larger values).
+
+#include <span>
+
+#include "poreshell/grid.hpp"
+#include "poreshell/mesh.hpp"
+
+namespace poreshell {
+
+struct SparseField {
+  const Grid* grid = nullptr;
+  std::span<const Coord> points;
+  std::span<const double> values;  // one per point
+  double background = 1.0;
+};
+
+// Requires background > iso (the solid is bounded). The result is closed and 2-manifold.
+TriangleMesh extract_isosurface(const SparseField& field, double iso);
+
+}  // namespace poreshell

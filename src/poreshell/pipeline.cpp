@@ -1,0 +1,128 @@
+#include "poreshell/pipeline.hpp"
+
+#include <tbb/global_control.h>
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "poreshell/error.hpp"
+#include "poreshell/initial_condition.hpp"
+#include "poreshell/isosurface.hpp"
+#include "poreshell/stl.hpp"
+
+namespace poreshell {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// Euler characteristic of the unperforated thin shell around a closed surface of this genus:
+// two parallel copies of the surface.
+int unperforated_shell_euler(const std::string& shape) {
+  return shape == "torus" ? 0 : 4;
+}
+
+void validate(const PipelineConfig& c) {
+  if (c.resolution < 9)
+    throw InputError("--resolution must be at least 9 grid points along the longest side");
+  if (c.resolution > 2048)
+    throw InputError("--resolution above 2048 is not supported by the reference solver");
+  if (!(c.epsilon_m > 0.0)) throw InputError("--epsilon-m must be positive (the paper uses 4)");
+  if (!(c.tolerance > 0.0)) throw InputError("--tol must be positive (the paper uses 1e-3)");
+  if (c.max_steps < 1) throw InputError("--max-steps must be at least 1");
+  if (!(c.amplitude >= 0.0)) throw InputError("the initial amplitude must be >= 0");
+  if (c.iso_levels.empty()) throw InputError("give at least one --iso level");
+  for (double iso : c.iso_levels)
+    if (!(iso > -1.0 && iso < 1.0)) throw InputError("--iso levels must lie strictly between -1 and 1");
+  if (c.output.empty()) throw InputError("give an output file with -o OUT.stl");
+  if (c.output.extension() != ".stl") throw InputError("the output must be an .stl file");
+}
+
+}  // namespace
+
+std::filesystem::path output_path_for_level(const std::filesystem::path& output, double iso, bool several) {
+  if (!several) return output;
+  std::ostringstream name;
+  name << output.stem().string() << "-iso" << iso << output.extension().string();
+  return output.parent_path() / name.str();
+}
+
+TriangleMesh narrow_volume_mesh(const NarrowBand& band, std::span<const double> phi, double iso) {
+  std::vector<Coord> points(band.voxels().begin(), band.voxels().end());
+  points.insert(points.end(), band.ghosts().begin(), band.ghosts().end());
+  std::vector<double> values(phi.begin(), phi.end());
+  values.resize(points.size(), 1.0);
+  const SparseField field{&band.grid(), points, values, 1.0};
+  return extract_isosurface(field, iso);
+}
+
+PipelineResult run_pipeline(const PipelineConfig& config) {
+  validate(config);
+  const auto start = std::chrono::steady_clock::now();
+  PipelineResult result;
+  result.threads =
+      static_cast<int>(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+
+  const std::unique_ptr<Surface> surface = make_paper_shape(config.shape);
+  const Grid grid = Grid::fitted(Box{Vec3::Zero(), Vec3::Ones()}, config.resolution);
+  result.grid_dims = grid.dims();
+  result.h = grid.h();
+
+  auto t = std::chrono::steady_clock::now();
+  const NarrowBand band = build_band(*surface, grid);
+  result.seconds_band = seconds_since(t);
+  result.band_voxels = band.size();
+  result.ghosts = band.ghost_count();
+  result.band_stats = band.stats();
+  result.band_bytes = band.memory_bytes();
+
+  result.model = ModelParameters{config.alpha, epsilon_m(config.epsilon_m, grid.h()), config.phi_bar};
+  result.dt = config.dt_in_h * grid.h();
+  t = std::chrono::steady_clock::now();
+  ReferenceSolver solver(band, result.model, result.dt, config.inner);
+  result.solver_name = solver.name();
+  result.inner_iteration = to_string(config.inner.method);
+  const EnergyFunctional energy(band, result.model);
+  std::vector<double> phi = random_initial_condition(band, config.phi_bar, config.amplitude, config.seed);
+  RunOptions run_options;
+  run_options.max_steps = config.max_steps;
+  run_options.tolerance = config.tolerance;
+  run_options.energy_every = config.energy_every;
+  run_options.on_step = config.on_step;
+  result.run = run_to_steady_state(solver, phi, &energy, run_options);
+  result.seconds_solve = seconds_since(t);
+  if (!std::isfinite(result.run.final_ec))
+    throw std::runtime_error("the solver diverged (non-finite values)");
+  result.spots = spot_statistics(band, phi, 0.0);
+
+  // Build and check every mesh before writing any, so a failed check leaves no output at all.
+  t = std::chrono::steady_clock::now();
+  const bool several = config.iso_levels.size() > 1;
+  std::vector<TriangleMesh> meshes;
+  for (double iso : config.iso_levels) {
+    MeshOutput out;
+    out.iso = iso;
+    out.path = output_path_for_level(config.output, iso, several);
+    meshes.push_back(narrow_volume_mesh(band, phi, iso));
+    out.topology = analyze_topology(meshes.back());
+    out.spots_at_iso = spot_statistics(band, phi, iso).count;
+    out.pores_from_euler = (unperforated_shell_euler(config.shape) - out.topology.euler_characteristic) / 2;
+    if (out.topology.triangles == 0)
+      throw std::runtime_error("the isosurface at " + std::to_string(iso) +
+                               " is empty: choose a level above min(phi)");
+    if (!out.topology.closed() || !out.topology.manifold() || !out.topology.oriented() ||
+        !(out.topology.signed_volume > 0.0))
+      throw std::runtime_error(
+          "the mesh at iso " + std::to_string(iso) +
+          " failed the printability check (closed, manifold, oriented, positive volume)");
+    result.meshes.push_back(out);
+  }
+  for (std::size_t i = 0; i < meshes.size(); ++i) write_stl_binary(result.meshes[i].path, meshes[i]);
+  result.seconds_mesh = seconds_since(t);
+  result.seconds_total = seconds_since(start);
+  return result;
+}
+
+}  // namespace poreshell

@@ -1,0 +1,74 @@
+#pragma once
+// The whole job in stage order: surface -> grid -> narrow band -> solver -> narrow volume -> mesh,
+// checks -> files. Front ends (the CLI, later bindings) call only this.
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "poreshell/band.hpp"
+#include "poreshell/mesh.hpp"
+#include "poreshell/model.hpp"
+#include "poreshell/pattern.hpp"
+#include "poreshell/reference_solver.hpp"
+#include "poreshell/time_stepping.hpp"
+
+namespace poreshell {
+
+struct PipelineConfig {
+  std::string shape = "sphere";  // sphere | torus (section 3.2, on the unit cube)
+  int resolution = 131;          // grid points along the longest side (the paper's N)
+  double alpha = 1400.0;         // nonlocal strength alpha
+  double epsilon_m = 4.0;        // m in epsilon_m = m h / (2 sqrt 2 atanh 0.9)
+  double dt_in_h = 100.0;        // time step in units of h
+  double tolerance = 1e-3;       // stop when e_c (RMS over the band) < tolerance
+  int max_steps = 2000;
+  std::uint64_t seed = 1;
+  double phi_bar = -0.3;   // mean concentration
+  double amplitude = 0.5;  // phi0 = phi_bar + amplitude * rand, rand uniform in [-1, 1]
+  std::vector<double> iso_levels{0.0};
+  InnerOptions inner;
+  int energy_every = 10;         // energy evaluation interval in steps (0: start and end only)
+  std::filesystem::path output;  // .stl; with several iso levels OUT-isoC.stl per level
+  std::function<void(const StepProgress&)> on_step;
+};
+
+struct MeshOutput {
+  double iso = 0.0;
+  std::filesystem::path path;
+  MeshTopology topology;
+  std::int64_t spots_at_iso = 0;      // connected components of {phi > iso} on the band
+  std::int64_t pores_from_euler = 0;  // (chi of the unperforated shell - chi) / 2
+};
+
+struct PipelineResult {
+  std::array<int, 3> grid_dims{};
+  double h = 0.0;
+  std::size_t band_voxels = 0, ghosts = 0;
+  BandStats band_stats;
+  std::size_t band_bytes = 0;
+  ModelParameters model;
+  double dt = 0.0;
+  std::string solver_name;
+  std::string inner_iteration;
+  RunResult run;
+  SpotStats spots;  // at phi > 0
+  std::vector<MeshOutput> meshes;
+  double seconds_band = 0.0, seconds_solve = 0.0, seconds_mesh = 0.0, seconds_total = 0.0;
+  int threads = 0;
+};
+
+// Output path for one iso level: OUT itself for a single level, OUT-isoC.ext for several.
+std::filesystem::path output_path_for_level(const std::filesystem::path& output, double iso, bool several);
+
+// The narrow volume of Fig. 3(b): phi on the band, 1 on the ghosts and everywhere else; the solid is
+// {phi < iso}. Returns its isosurface.
+TriangleMesh narrow_volume_mesh(const NarrowBand& band, std::span<const double> phi, double iso);
+
+PipelineResult run_pipeline(const PipelineConfig& config);
+
+}  // namespace poreshell

@@ -1,0 +1,59 @@
+#include "poreshell/report.hpp"
+
+namespace poreshell {
+
+nlohmann::json to_json(const PipelineResult& r) {
+  using nlohmann::json;
+  json meshes = json::array();
+  for (const MeshOutput& m : r.meshes) {
+    meshes.push_back({{"iso", m.iso},
+                      {"path", m.path.string()},
+                      {"triangles", m.topology.triangles},
+                      {"vertices", m.topology.vertices},
+                      {"closed", m.topology.closed()},
+                      {"manifold", m.topology.manifold()},
+                      {"oriented", m.topology.oriented()},
+                      {"euler_characteristic", m.topology.euler_characteristic},
+                      {"volume", m.topology.signed_volume},
+                      {"pores_from_euler", m.pores_from_euler},
+                      {"spots_at_iso", m.spots_at_iso}});
+  }
+  json mesh = meshes.empty() ? json::object() : meshes.front();
+  mesh["outputs"] = meshes;
+  json energy_trace = json::array();
+  for (const auto& [step, e] : r.run.energy_trace) energy_trace.push_back({step, e});
+  return {
+      {"grid", {{"dims", r.grid_dims}, {"h", r.h}}},
+      {"band",
+       {{"voxels", r.band_voxels},
+        {"ghosts", r.ghosts},
+        {"paper_ghosts", r.band_stats.paper_ghosts},
+        {"closure_added", r.band_stats.closure_added},
+        {"bytes", r.band_bytes}}},
+      {"model",
+       {{"alpha", r.model.alpha}, {"epsilon", r.model.epsilon}, {"phi_bar", r.model.phi_bar}, {"dt", r.dt}}},
+      {"solver",
+       {{"name", r.solver_name},
+        {"inner_iteration", r.inner_iteration},
+        {"steps", r.run.steps},
+        {"final_ec", r.run.final_ec},
+        {"reached_tolerance", r.run.reached_tolerance},
+        {"inner_converged", r.run.inner_converged},
+        {"inner_iterations", r.run.inner_iterations},
+        {"energy", {{"first", r.run.energy_first}, {"last", r.run.energy_last}, {"trace", energy_trace}}}}},
+      {"pattern",
+       {{"spots", r.spots.count},
+        {"size_cv", r.spots.size_cv},
+        {"mean_size_voxels", r.spots.mean_size},
+        {"area_fraction", r.spots.area_fraction}}},
+      {"mesh", mesh},
+      {"seconds",
+       {{"band", r.seconds_band},
+        {"solve", r.seconds_solve},
+        {"mesh", r.seconds_mesh},
+        {"total", r.seconds_total}}},
+      {"threads", r.threads},
+  };
+}
+
+}  // namespace poreshell

@@ -1,0 +1,62 @@
+#pragma once
+// What every surface source answers: distance and closest point at a point. Analytic shapes,
+// triangle meshes and point clouds all implement this; the band builder only sees this interface.
+
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "poreshell/types.hpp"
+
+namespace poreshell {
+
+class Surface {
+ public:
+  virtual ~Surface() = default;
+
+  // Distance to the surface, signed (negative inside) where the surface has an inside.
+  // Must be 1-Lipschitz: the band builder skips whole blocks of the grid on that bound.
+  virtual double distance(const Vec3& p) const = 0;
+
+  // Exact closest point on the surface, where the source can give one. Sources that cannot
+  // (a sampled level set) return nothing, and the band uses the paper's gradient formula.
+  virtual std::optional<Vec3> closest_point(const Vec3& p) const = 0;
+
+  // A box that holds the whole surface.
+  virtual Box bounds() const = 0;
+
+  virtual std::string name() const = 0;
+};
+
+// Sphere of eq. (3.1): |x - c| - r.
+class Sphere final : public Surface {
+ public:
+  Sphere(const Vec3& center, double radius);
+  double distance(const Vec3& p) const override;
+  std::optional<Vec3> closest_point(const Vec3& p) const override;
+  Box bounds() const override;
+  std::string name() const override { return "sphere"; }
+
+ private:
+  Vec3 center_;
+  double radius_;
+};
+
+// Torus of section 3.2: sqrt((sqrt((x-cx)^2 + (y-cy)^2) - R)^2 + (z-cz)^2) - r, axis along z.
+class Torus final : public Surface {
+ public:
+  Torus(const Vec3& center, double major_radius, double minor_radius);
+  double distance(const Vec3& p) const override;
+  std::optional<Vec3> closest_point(const Vec3& p) const override;
+  Box bounds() const override;
+  std::string name() const override { return "torus"; }
+
+ private:
+  Vec3 center_;
+  double major_, minor_;
+};
+
+// The shapes of section 3.2 on the unit cube [0,1]^3: sphere r = 0.3, torus R = 0.3, r = 0.15.
+std::unique_ptr<Surface> make_paper_shape(const std::string& name);
+
+}  // namespace poreshell
