@@ -34,8 +34,14 @@ void validate(const PipelineConfig& c) {
   if (c.max_steps < 1) throw InputError("--max-steps must be at least 1");
   if (!(c.amplitude >= 0.0)) throw InputError("the initial amplitude must be >= 0");
   if (c.iso_levels.empty()) throw InputError("give at least one --iso level");
-  for (double iso : c.iso_levels)
-    if (!(iso > -1.0 && iso < 1.0)) throw InputError("--iso levels must lie strictly between -1 and 1");
+  for (std::size_t i = 0; i < c.iso_levels.size(); ++i) {
+    if (!(c.iso_levels[i] > -1.0 && c.iso_levels[i] < 1.0))
+      throw InputError("--iso levels must lie strictly between -1 and 1");
+    for (std::size_t j = 0; j < i; ++j)
+      if (c.iso_levels[j] == c.iso_levels[i]) throw InputError("--iso lists the same level twice");
+  }
+  // The model's own checks (epsilon is set from the grid later; any positive value passes here).
+  poreshell::validate(ModelParameters{c.alpha, 1.0, c.phi_bar}, c.dt_in_h);
   if (c.output.empty()) throw InputError("give an output file with -o OUT.stl");
   if (c.output.extension() != ".stl") throw InputError("the output must be an .stl file");
 }

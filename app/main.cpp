@@ -1,0 +1,247 @@
+// poreshell: the command-line front end. Thin on purpose: flags -> PipelineConfig -> run_pipeline ->
+// summary and report. All numerics and validation live in the library.
+
+#include <fmt/core.h>
+#include <fmt/format.h>
+#include <tbb/global_control.h>
+
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "poreshell/atomic_file.hpp"
+#include "poreshell/error.hpp"
+#include "poreshell/pipeline.hpp"
+#include "poreshell/report.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr int kExitFailure = 1;
+constexpr int kExitUsage = 2;
+
+// Fail before the (possibly minutes long) solve rather than after it, and never leave partial output.
+void check_writable_location(const fs::path& path, const char* option) {
+  const fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec))
+    throw poreshell::InputError(
+        fmt::format("cannot write {} '{}': the directory '{}' does not exist; create it "
+                    "or choose another path",
+                    option, path.string(), dir.string()));
+  if (fs::is_directory(path, ec))
+    throw poreshell::InputError(
+        fmt::format("cannot write {} '{}': it is a directory; give a file name", option, path.string()));
+}
+
+// Like CLI::PositiveNumber / NonNegativeNumber, but with a message that states the rule instead of
+// printing the range up to DBL_MAX.
+CLI::Validator number_above(double low, bool inclusive) {
+  const std::string rule = inclusive ? ">= " : "> ";
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        double v = 0.0;
+        if (!CLI::detail::lexical_cast(text, v) || !std::isfinite(v) || (inclusive ? v < low : v <= low))
+          return fmt::format("must be a number {}{:g}, got '{}'", rule, low, text);
+        return {};
+      },
+      "", "");
+}
+
+std::string yes_no(bool b, const char* yes, const char* no) {
+  return b ? yes : no;
+}
+
+// Progress: the first step, every tenth, and every step where the energy was evaluated.
+void print_progress(const poreshell::StepProgress& p, std::chrono::steady_clock::time_point start) {
+  if (p.step != 1 && p.step % 10 != 0 && std::isnan(p.energy)) return;
+  const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::string line = fmt::format("step {:5d}  e_c {:.3e}", p.step, p.ec);
+  if (!std::isnan(p.energy)) line += fmt::format("  energy {:.6e}", p.energy);
+  line += fmt::format("  inner {} sweeps{}  {:.1f} s", p.inner.inner_iterations,
+                      p.inner.converged ? "" : " (not converged)", t);
+  fmt::print(stderr, "{}\n", line);
+}
+
+void print_summary(const poreshell::PipelineConfig& c, const poreshell::PipelineResult& r,
+                   const std::string& report) {
+  const auto& d = r.grid_dims;
+  fmt::print("poreshell {}: {}\n", PORESHELL_VERSION, c.shape);
+  fmt::print("  grid     {} x {} x {}, h = {:.6g}\n", d[0], d[1], d[2], r.h);
+  fmt::print("  band     {} voxels, {} ghosts, {:.1f} MiB\n", r.band_voxels, r.ghosts,
+             static_cast<double>(r.band_bytes) / (1024.0 * 1024.0));
+  fmt::print("  model    alpha {:g}, epsilon {:.6g} (m = {:g}), phi-bar {:g}, dt {:.6g} ({:g} h)\n",
+             r.model.alpha, r.model.epsilon, c.epsilon_m, r.model.phi_bar, r.dt, c.dt_in_h);
+  fmt::print("  solver   {} ({} inner): {} steps, final e_c {:.3e} {} tol {:g} ({}), {} inner sweeps{}\n",
+             r.solver_name, r.inner_iteration, r.run.steps, r.run.final_ec,
+             r.run.reached_tolerance ? "<" : ">=", c.tolerance,
+             yes_no(r.run.reached_tolerance, "reached", "NOT reached"), r.run.inner_iterations,
+             r.run.inner_converged ? "" : " (some steps did not reach --inner-tol)");
+  fmt::print("  energy   first {:.6e}, final {:.6e}\n", r.run.energy_first, r.run.energy_last);
+  fmt::print("  pattern  {} spots at phi > 0, size CV {:.3f}, area fraction {:.3f}\n", r.spots.count,
+             r.spots.size_cv, r.spots.area_fraction);
+  fmt::print("  time     band {:.2f} s, solve {:.2f} s, mesh+write {:.2f} s, total {:.2f} s ({} threads)\n",
+             r.seconds_band, r.seconds_solve, r.seconds_mesh, r.seconds_total, r.threads);
+  for (const poreshell::MeshOutput& m : r.meshes) {
+    const auto& t = m.topology;
+    fmt::print(
+        "  output   {} (iso {:g}): {} triangles, {}, {}, Euler characteristic {}, pores from Euler {} vs "
+        "{} spots on band\n",
+        m.path.string(), m.iso, t.triangles, yes_no(t.closed(), "closed", "OPEN"),
+        yes_no(t.manifold(), "manifold", "NON-MANIFOLD"), t.euler_characteristic, m.pores_from_euler,
+        m.spots_at_iso);
+  }
+  if (!report.empty()) fmt::print("  report   {}\n", report);
+}
+
+int run(int argc, char** argv) {
+  poreshell::PipelineConfig config;  // its defaults are the paper's section 3.2 values
+  std::string output, report, inner = poreshell::to_string(config.inner.method);
+  int threads = 0;
+  bool quiet = false;
+
+  CLI::App app{
+      "poreshell: porous shells for 3D printing from the nonlocal Cahn-Hilliard equation on a narrow "
+      "band (defaults: the sphere of section 3.2)",
+      "poreshell"};
+  app.set_version_flag("--version", std::string("poreshell ") + PORESHELL_VERSION);
+  app.get_formatter()->column_width(28);
+
+  app.add_option("--shape", config.shape, "surface S: sphere (eq. 3.1) or torus (section 3.2)")
+      ->check(CLI::IsMember({"sphere", "torus"}))
+      ->capture_default_str();
+  app.add_option("--resolution", config.resolution,
+                 "grid points N_x along the longest side, h = 1/(N_x - 1) (paper: 131, Fig. 5: 181)")
+      ->type_name("N")
+      ->check(number_above(0.0, false))
+      ->capture_default_str();
+  app.add_option("--alpha", config.alpha,
+                 "nonlocal strength α in eq. (2.1) (paper: 1400 sphere and torus, 2200 bunny)")
+      ->type_name("A")
+      ->check(number_above(0.0, true))
+      ->capture_default_str();
+  app.add_option("--epsilon-m", config.epsilon_m,
+                 "interface width m in ε_m = m h / (2√2 tanh⁻¹ 0.9) (paper: 4)")
+      ->type_name("M")
+      ->check(number_above(0.0, false))
+      ->capture_default_str();
+  app.add_option("--dt-h", config.dt_in_h, "time step Δt in units of h, Δt = K h (paper: 100)")
+      ->type_name("K")
+      ->check(number_above(0.0, false))
+      ->capture_default_str();
+  app.add_option("--tol", config.tolerance, "stop when the consecutive change e_c < tol (paper: 1e-3)")
+      ->type_name("T")
+      ->check(number_above(0.0, false))
+      ->capture_default_str();
+  app.add_option("--max-steps", config.max_steps,
+                 "at most S time steps (paper: T = 329 Δt sphere, 358 Δt torus)")
+      ->type_name("S")
+      ->check(number_above(0.0, false))
+      ->capture_default_str();
+  app.add_option("--seed", config.seed, "seed of rand(x) in φ(x, 0) = φ̄ + 0.5 rand(x)")
+      ->type_name("S")
+      ->capture_default_str();
+  app.add_option(
+         "--iso", config.iso_levels,
+         "isosurface level(s) φ = C of the narrow volume, comma-separated or repeated (paper: 0.3, 0, -0.3)")
+      ->type_name("C[,C...]")
+      ->delimiter(',')
+      ->allow_extra_args(false)  // one token per --iso, so "--iso 0.3 OUT" cannot swallow a stray word
+      ->capture_default_str();
+  app.add_option("--threads", threads, "worker threads (oneTBB); 0 = all cores")
+      ->type_name("N")
+      ->check(number_above(0.0, true))
+      ->capture_default_str();
+  app.add_option("--phi-bar", config.phi_bar,
+                 "mean concentration φ̄ in eq. (2.1), sets the pore fraction (paper: -0.3)")
+      ->type_name("F")
+      ->capture_default_str();
+  app.add_option("--inner", inner, "inner relaxation of eqs. (2.3)-(2.4) per step (paper: jacobi)")
+      ->check(CLI::IsMember({"gauss-seidel", "jacobi"}))
+      ->capture_default_str();
+  app.add_option("--inner-tol", config.inner.tolerance,
+                 "inner tolerance on the max-norm scaled residual of eqs. (2.3)-(2.4)")
+      ->type_name("T")
+      ->check(number_above(0.0, false))
+      ->capture_default_str();
+  // Required, but checked after parsing: CLI11 reports a missing required option before an unknown one,
+  // which would hide a misspelt flag behind "--output is required".
+  app.add_option("-o,--output", output,
+                 "output binary STL (required); several --iso levels write OUT-isoC.stl each")
+      ->type_name("OUT.stl");
+  app.add_option("--report", report, "write the run's JSON report here")->type_name("OUT.json");
+  app.add_flag("-q,--quiet", quiet, "no per-step progress on stderr");
+
+  app.allow_extras();
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+    fmt::print(stderr, "poreshell: error: {} (see poreshell --help)\n", e.what());
+    return kExitUsage;
+  }
+  if (!app.remaining().empty()) {
+    fmt::print(stderr, "poreshell: error: unknown argument '{}' (see poreshell --help)\n",
+               app.remaining().front());
+    return kExitUsage;
+  }
+  if (output.empty()) {
+    fmt::print(stderr, "poreshell: error: no output file: give -o OUT.stl (see poreshell --help)\n");
+    return kExitUsage;
+  }
+
+  config.inner.method = poreshell::parse_inner_iteration(inner);
+  config.output = output;
+  check_writable_location(config.output, "the output");
+  if (!report.empty()) check_writable_location(report, "the report");
+
+  // Held for the whole run: oneTBB honours the limit only while the object lives.
+  std::optional<tbb::global_control> thread_limit;
+  if (threads > 0)
+    thread_limit.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+
+  const auto start = std::chrono::steady_clock::now();
+  if (!quiet) config.on_step = [start](const poreshell::StepProgress& p) { print_progress(p, start); };
+
+  const poreshell::PipelineResult result = poreshell::run_pipeline(config);
+
+  if (!report.empty())
+    poreshell::write_atomically(
+        report, [&](std::ostream& out) { out << poreshell::to_json(result).dump(2) << '\n'; }, false);
+
+  print_summary(config, result, report);
+  if (!result.run.reached_tolerance)
+    fmt::print(
+        stderr,
+        "poreshell: warning: stopped at --max-steps {} with e_c = {:.3e} above --tol {:g}; the pattern may "
+        "not be steady yet, raise --max-steps\n",
+        result.run.steps, result.run.final_ec, config.tolerance);
+  if (!result.run.inner_converged)
+    fmt::print(
+        stderr,
+        "poreshell: warning: some steps did not reach --inner-tol {:g}; the result may be inaccurate\n",
+        config.inner.tolerance);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {  // poreshell::InputError included: its message says what to fix
+    fmt::print(stderr, "poreshell: error: {}\n", e.what());
+  } catch (...) {
+    fmt::print(stderr, "poreshell: error: unknown failure\n");
+  }
+  return kExitFailure;
+}

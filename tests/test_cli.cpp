@@ -1,0 +1,204 @@
+// The poreshell program end to end: the contract scripts rely on (exit codes, one-line errors, no
+// partial output, file names, report keys, thread-count independence).
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#ifndef PORESHELL_EXE
+#error "PORESHELL_EXE must name the poreshell executable (see tests/CMakeLists.txt)"
+#endif
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// A small run that finishes in well under a second in Release: alpha * eps^2 < 1/4 keeps the
+// pattern-forming regime well posed on the coarse grid.
+const std::string kSmallRun = "--shape sphere --resolution 33 --alpha 84 --max-steps 5 --tol 1e-12 --quiet";
+
+struct Outcome {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+std::string read_file(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+std::vector<std::string> lines(const std::string& text) {
+  std::vector<std::string> result;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);)
+    if (!line.empty()) result.push_back(line);
+  return result;
+}
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    root_ = fs::temp_directory_path() /
+            ("poreshell_test_cli_" + std::to_string(::getpid()) + "_" + std::string(info->name()));
+    fs::remove_all(root_);
+    fs::create_directories(work());
+    fs::create_directories(root_ / "log");  // captured streams live outside work() so it holds only outputs
+  }
+  void TearDown() override {
+    std::error_code ignored;
+    fs::remove_all(root_, ignored);
+  }
+
+  fs::path work() const { return root_ / "work"; }
+
+  // Runs poreshell with `args` (shell syntax) in work().
+  Outcome run(const std::string& args) const {
+    const fs::path out = root_ / "log" / "stdout", err = root_ / "log" / "stderr";
+    const std::string command = "cd '" + work().string() + "' && '" + PORESHELL_EXE + "' " + args + " >'" +
+                                out.string() + "' 2>'" + err.string() + "' </dev/null";
+    const int status = std::system(command.c_str());
+    Outcome o;
+    o.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    o.out = read_file(out);
+    o.err = read_file(err);
+    return o;
+  }
+
+  std::vector<std::string> files_in_work() const {
+    std::vector<std::string> names;
+    for (const auto& entry : fs::directory_iterator(work()))
+      names.push_back(entry.path().filename().string());
+    return names;
+  }
+
+  // One line on stderr, in the documented form.
+  static void expect_one_error_line(const Outcome& o) {
+    const auto l = lines(o.err);
+    ASSERT_EQ(l.size(), 1u) << o.err;
+    EXPECT_EQ(l[0].rfind("poreshell: error: ", 0), 0u) << l[0];
+    EXPECT_GT(l[0].size(), std::string("poreshell: error: ").size() + 10)
+        << "the message should say what to fix";
+  }
+
+  fs::path root_;
+};
+
+std::uint32_t stl_triangle_count(const std::string& bytes) {
+  std::uint32_t n = 0;
+  for (int b = 3; b >= 0; --b)
+    n = (n << 8) | static_cast<unsigned char>(bytes.at(80 + static_cast<std::size_t>(b)));
+  return n;
+}
+
+TEST_F(Cli, HelpExitsZeroAndMentionsEveryOption) {
+  const Outcome o = run("--help");
+  EXPECT_EQ(o.exit_code, 0) << o.err;
+  for (const char* option : {"--shape", "--resolution", "--alpha", "--epsilon-m", "--dt-h", "--tol",
+                             "--max-steps", "--seed", "--iso", "--threads", "--phi-bar", "--inner",
+                             "--inner-tol", "-o", "--report", "--quiet", "--version"})
+    EXPECT_NE(o.out.find(option), std::string::npos) << option << " missing from --help:\n" << o.out;
+  EXPECT_TRUE(files_in_work().empty());
+}
+
+TEST_F(Cli, VersionExitsZero) {
+  const Outcome o = run("--version");
+  EXPECT_EQ(o.exit_code, 0) << o.err;
+  EXPECT_EQ(o.out.rfind("poreshell ", 0), 0u) << o.out;
+}
+
+TEST_F(Cli, UnknownFlagIsAUsageError) {
+  const Outcome o = run("--no-such-flag -o X.stl");
+  EXPECT_EQ(o.exit_code, 2);
+  expect_one_error_line(o);
+  EXPECT_NE(o.err.find("--no-such-flag"), std::string::npos) << o.err;
+  EXPECT_TRUE(files_in_work().empty());
+}
+
+TEST_F(Cli, MissingOutputIsAUsageError) {
+  const Outcome o = run("--resolution 33");
+  EXPECT_EQ(o.exit_code, 2);
+  expect_one_error_line(o);
+  EXPECT_TRUE(files_in_work().empty());
+}
+
+TEST_F(Cli, InvalidValuesFailWithAMessageAndNoOutput) {
+  for (const char* args : {"--resolution 2 -o X.stl --report X.json", "--alpha -1 -o X.stl --report X.json",
+                           "--phi-bar 2 -o X.stl --report X.json --quiet"}) {
+    const Outcome o = run(args);
+    EXPECT_TRUE(o.exit_code == 1 || o.exit_code == 2) << args << ": exit " << o.exit_code;
+    expect_one_error_line(o);
+    EXPECT_TRUE(files_in_work().empty()) << args;
+  }
+}
+
+TEST_F(Cli, OutputInAMissingDirectoryFailsBeforeRunning) {
+  const Outcome o = run(kSmallRun + " -o no-such-dir/X.stl --report X.json");
+  EXPECT_EQ(o.exit_code, 1);
+  expect_one_error_line(o);
+  EXPECT_NE(o.err.find("does not exist"), std::string::npos) << o.err;
+  EXPECT_TRUE(files_in_work().empty());
+}
+
+TEST_F(Cli, SmallRunWritesStlAndReport) {
+  const Outcome o = run(kSmallRun + " -o X.stl --report X.json");
+  ASSERT_EQ(o.exit_code, 0) << o.err;
+  EXPECT_NE(o.out.find("X.stl"), std::string::npos) << "the summary names each output:\n" << o.out;
+  // 5 steps cannot reach tol 1e-12: the run succeeds but says so.
+  EXPECT_NE(o.err.find("warning"), std::string::npos) << o.err;
+  EXPECT_EQ(o.err.find("step "), std::string::npos) << "--quiet prints no progress:\n" << o.err;
+
+  const std::string stl = read_file(work() / "X.stl");
+  ASSERT_GE(stl.size(), 84u);
+  const std::uint32_t triangles = stl_triangle_count(stl);
+  EXPECT_GT(triangles, 0u);
+  EXPECT_EQ(stl.size(), 84u + 50u * triangles);
+
+  const nlohmann::json report = nlohmann::json::parse(read_file(work() / "X.json"));
+  for (const char* key : {"/grid/dims", "/grid/h", "/band/voxels", "/band/ghosts", "/solver/name",
+                          "/solver/steps", "/solver/final_ec", "/solver/energy/first", "/solver/energy/last",
+                          "/pattern/spots", "/pattern/size_cv", "/mesh/triangles", "/mesh/closed",
+                          "/mesh/manifold", "/mesh/euler_characteristic", "/seconds/total", "/threads"})
+    EXPECT_TRUE(report.contains(nlohmann::json::json_pointer(key))) << key;
+  EXPECT_EQ(report["grid"]["dims"], nlohmann::json({33, 33, 33}));
+  EXPECT_EQ(report["solver"]["steps"], 5);
+  EXPECT_EQ(report["mesh"]["triangles"], triangles);
+  EXPECT_EQ(report["mesh"]["closed"], true);
+  EXPECT_EQ(report["mesh"]["manifold"], true);
+
+  std::vector<std::string> names = files_in_work();
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"X.json", "X.stl"})) << "no temporary files left behind";
+}
+
+TEST_F(Cli, SeveralIsoLevelsWriteSuffixedFiles) {
+  const Outcome o = run(kSmallRun + " --iso 0.3,0 -o X.stl");
+  ASSERT_EQ(o.exit_code, 0) << o.err;
+  EXPECT_TRUE(fs::exists(work() / "X-iso0.3.stl"));
+  EXPECT_TRUE(fs::exists(work() / "X-iso0.stl"));
+  EXPECT_FALSE(fs::exists(work() / "X.stl"));
+}
+
+TEST_F(Cli, ThreadCountDoesNotChangeTheOutput) {
+  const Outcome one = run(kSmallRun + " --threads 1 -o one.stl --report one.json");
+  ASSERT_EQ(one.exit_code, 0) << one.err;
+  const Outcome two = run(kSmallRun + " --threads 2 -o two.stl --report two.json");
+  ASSERT_EQ(two.exit_code, 0) << two.err;
+  const std::string a = read_file(work() / "one.stl"), b = read_file(work() / "two.stl");
+  ASSERT_FALSE(a.empty());
+  EXPECT_TRUE(a == b) << "STL differs between --threads 1 and --threads 2";
+  EXPECT_EQ(nlohmann::json::parse(read_file(work() / "one.json"))["threads"], 1);
+}
+
+}  // namespace
