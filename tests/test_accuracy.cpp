@@ -71,6 +71,8 @@ TEST(Accuracy, SecondOrderInSpaceAsInTable1) {
     // The paper's grids 33/65/129 give 1.94 here (paper: 1.95). The optional (1/128, 1/256) pair converges
     // faster than second order (rate 4.0, docs/benchmarks.md): most of this "error" is the relaxation of
     // the initial data's variation off the surface, whose time scale shrinks like h^4 / eps^2.
-    if (i == 0) EXPECT_LE(rate, 2.25);
+    if (i == 0) {
+      EXPECT_LE(rate, 2.25);
+    }
   }
 }
