@@ -74,7 +74,11 @@ void print_progress(const poreshell::StepProgress& p, std::chrono::steady_clock:
 void print_summary(const poreshell::PipelineConfig& c, const poreshell::PipelineResult& r,
                    const std::string& report) {
   const auto& d = r.grid_dims;
-  fmt::print("poreshell {}: {}\n", PORESHELL_VERSION, c.shape);
+  fmt::print("poreshell {}: {}\n", PORESHELL_VERSION, r.input.name);
+  if (r.input.kind == "mesh")
+    fmt::print("  input    {} vertices, {} triangles ({} degenerate dropped), {} boundary edges, {:.2f} s\n",
+               r.input.vertices, r.input.triangles, r.input.dropped_degenerate, r.input.boundary_edges,
+               r.seconds_input);
   fmt::print("  grid     {} x {} x {}, h = {:.6g}\n", d[0], d[1], d[2], r.h);
   fmt::print("  band     {} voxels, {} ghosts, {:.1f} MiB\n", r.band_voxels, r.ghosts,
              static_cast<double>(r.band_bytes) / (1024.0 * 1024.0));
@@ -115,9 +119,15 @@ int run(int argc, char** argv) {
   app.set_version_flag("--version", std::string("poreshell ") + PORESHELL_VERSION);
   app.get_formatter()->column_width(28);
 
-  app.add_option("--shape", config.shape, "surface S: sphere (eq. 3.1) or torus (section 3.2)")
-      ->check(CLI::IsMember({"sphere", "torus"}))
-      ->capture_default_str();
+  auto* shape = app.add_option("--shape", config.shape, "surface S: sphere (eq. 3.1) or torus (section 3.2)")
+                    ->check(CLI::IsMember({"sphere", "torus"}))
+                    ->capture_default_str();
+  std::string mesh;
+  app.add_option("--mesh", mesh,
+                 "triangle mesh FILE (STL, OBJ, PLY, OFF, 3MF; holes and open surfaces are fine), fitted to "
+                 "the unit grid as in section 3.4; output in the file's units")
+      ->type_name("FILE")
+      ->excludes(shape);
   app.add_option("--resolution", config.resolution,
                  "grid points N_x along the longest side, h = 1/(N_x - 1) (paper: 131, Fig. 5: 181)")
       ->type_name("N")
@@ -201,6 +211,7 @@ int run(int argc, char** argv) {
 
   config.inner.method = poreshell::parse_inner_iteration(inner);
   config.output = output;
+  config.mesh = mesh;
   check_writable_location(config.output, "the output");
   if (!report.empty()) check_writable_location(report, "the report");
 

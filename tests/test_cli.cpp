@@ -107,7 +107,7 @@ TEST_F(Cli, HelpExitsZeroAndMentionsEveryOption) {
   EXPECT_EQ(o.exit_code, 0) << o.err;
   for (const char* option : {"--shape", "--resolution", "--alpha", "--epsilon-m", "--dt-h", "--tol",
                              "--max-steps", "--seed", "--iso", "--threads", "--phi-bar", "--inner",
-                             "--inner-tol", "-o", "--report", "--quiet", "--version"})
+                             "--inner-tol", "--mesh", "-o", "--report", "--quiet", "--version"})
     EXPECT_NE(o.out.find(option), std::string::npos) << option << " missing from --help:\n" << o.out;
   EXPECT_TRUE(files_in_work().empty());
 }
@@ -140,6 +140,28 @@ TEST_F(Cli, InvalidValuesFailWithAMessageAndNoOutput) {
     EXPECT_TRUE(o.exit_code == 1 || o.exit_code == 2) << args << ": exit " << o.exit_code;
     expect_one_error_line(o);
     EXPECT_TRUE(files_in_work().empty()) << args;
+  }
+}
+
+TEST_F(Cli, ShapeAndMeshAreExclusive) {
+  const Outcome o = run("--shape torus --mesh bunny.obj -o X.stl");
+  EXPECT_EQ(o.exit_code, 2);
+  expect_one_error_line(o);
+  EXPECT_TRUE(files_in_work().empty());
+}
+
+TEST_F(Cli, MissingOrBadMeshFailsWithItsNameAndNoOutput) {
+  {
+    std::ofstream bad(work() / "bad.obj");
+    bad << "v 0 0 0\nv 1 0 nan\nv 0 1 0\nf 1 2 3\n";
+  }
+  for (const char* mesh : {"missing.stl", "bad.obj"}) {
+    const Outcome o =
+        run(std::string("--mesh ") + mesh + " --resolution 33 -o X.stl --report X.json --quiet");
+    EXPECT_EQ(o.exit_code, 1) << mesh;
+    expect_one_error_line(o);
+    EXPECT_NE(o.err.find(mesh), std::string::npos) << o.err;
+    EXPECT_FALSE(fs::exists(work() / "X.stl") || fs::exists(work() / "X.json")) << mesh;
   }
 }
 

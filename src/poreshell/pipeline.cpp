@@ -9,6 +9,8 @@
 #include "poreshell/error.hpp"
 #include "poreshell/initial_condition.hpp"
 #include "poreshell/isosurface.hpp"
+#include "poreshell/mesh_io.hpp"
+#include "poreshell/mesh_surface.hpp"
 #include "poreshell/stl.hpp"
 
 namespace poreshell {
@@ -18,10 +20,57 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-// Euler characteristic of the unperforated thin shell around a closed surface of this genus:
-// two parallel copies of the surface.
-int unperforated_shell_euler(const std::string& shape) {
-  return shape == "torus" ? 0 : 4;
+// Grid cells between a mesh's bounding box and the grid's edge: the band (delta = 1.9 h) and its ghosts
+// (one more cell) must stay inside the grid.
+constexpr int kMeshPaddingCells = 4;
+
+// The surface in grid coordinates. Meshes are scaled into the paper's frame: the grid's longest side
+// has length 1, h = 1/(N - 1), so the paper's alpha, eps_m and dt = K h mean the same for any model;
+// `to_input` maps results back to the file's units.
+struct PlacedSurface {
+  std::unique_ptr<Surface> surface;
+  Box domain;
+  InputSummary input;
+  Vec3 input_center = Vec3::Zero();  // x_input = (x_grid - 0.5) / scale + input_center
+};
+
+PlacedSurface place_surface(const PipelineConfig& c) {
+  PlacedSurface placed;
+  if (c.mesh.empty()) {
+    placed.surface = make_paper_shape(c.shape);
+    placed.domain = Box{Vec3::Zero(), Vec3::Ones()};
+    placed.input.kind = "shape";
+    placed.input.name = c.shape;
+    placed.input.euler_characteristic = c.shape == "torus" ? 0 : 2;
+    placed.input_center = Vec3::Constant(0.5);  // the shapes are already in grid coordinates
+    return placed;
+  }
+  MeshInputStats stats;
+  TriangleMesh mesh = read_triangle_mesh(c.mesh, &stats);
+  placed.input = {"mesh",
+                  c.mesh.string(),
+                  stats.vertices,
+                  stats.triangles,
+                  stats.boundary_edges,
+                  stats.dropped_degenerate,
+                  analyze_topology(mesh).euler_characteristic,
+                  1.0};
+  Box box{mesh.vertices.front(), mesh.vertices.front()};
+  for (const Vec3& v : mesh.vertices) {
+    box.min = box.min.cwiseMin(v);
+    box.max = box.max.cwiseMax(v);
+  }
+  const double longest = (box.max - box.min).maxCoeff();
+  if (!(longest > 0.0)) throw InputError("the mesh '" + c.mesh.string() + "' has zero size");
+  const double h = 1.0 / (c.resolution - 1);
+  const double scale = (1.0 - 2 * kMeshPaddingCells * h) / longest;
+  placed.input.scale = scale;
+  placed.input_center = 0.5 * (box.min + box.max);
+  for (Vec3& v : mesh.vertices) v = (v - placed.input_center) * scale + Vec3::Constant(0.5);
+  const Vec3 half = 0.5 * scale * (box.max - box.min) + Vec3::Constant(kMeshPaddingCells * h);
+  placed.domain = Box{Vec3::Constant(0.5) - half, Vec3::Constant(0.5) + half};
+  placed.surface = std::make_unique<MeshSurface>(mesh);
+  return placed;
 }
 
 void validate(const PipelineConfig& c) {
@@ -71,13 +120,16 @@ PipelineResult run_pipeline(const PipelineConfig& config) {
   result.threads =
       static_cast<int>(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
 
-  const std::unique_ptr<Surface> surface = make_paper_shape(config.shape);
-  const Grid grid = Grid::fitted(Box{Vec3::Zero(), Vec3::Ones()}, config.resolution);
+  auto t = std::chrono::steady_clock::now();
+  const PlacedSurface placed = place_surface(config);
+  result.input = placed.input;
+  result.seconds_input = seconds_since(t);
+  const Grid grid = Grid::fitted(placed.domain, config.resolution);
   result.grid_dims = grid.dims();
   result.h = grid.h();
 
-  auto t = std::chrono::steady_clock::now();
-  const NarrowBand band = build_band(*surface, grid);
+  t = std::chrono::steady_clock::now();
+  const NarrowBand band = build_band(*placed.surface, grid);
   result.seconds_band = seconds_since(t);
   result.band_voxels = band.size();
   result.ghosts = band.ghost_count();
@@ -103,6 +155,12 @@ PipelineResult run_pipeline(const PipelineConfig& config) {
     throw std::runtime_error("the solver diverged (non-finite values)");
   result.spots = spot_statistics(band, phi, 0.0);
 
+  // The unperforated shell (phi = -1 on the band) gives the reference Euler characteristic: each pore is
+  // one tunnel, so pores = (chi0 - chi) / 2. Computed, not derived from the input's topology, because the
+  // band closes holes narrower than about 2 delta (a scan's small holes) and may merge close sheets.
+  const std::vector<double> solid(band.size(), -1.0);
+  result.unperforated_euler = analyze_topology(narrow_volume_mesh(band, solid, 0.0)).euler_characteristic;
+
   // Build and check every mesh before writing any, so a failed check leaves no output at all.
   t = std::chrono::steady_clock::now();
   const bool several = config.iso_levels.size() > 1;
@@ -114,7 +172,7 @@ PipelineResult run_pipeline(const PipelineConfig& config) {
     meshes.push_back(narrow_volume_mesh(band, phi, iso));
     out.topology = analyze_topology(meshes.back());
     out.spots_at_iso = spot_statistics(band, phi, iso).count;
-    out.pores_from_euler = (unperforated_shell_euler(config.shape) - out.topology.euler_characteristic) / 2;
+    out.pores_from_euler = (result.unperforated_euler - out.topology.euler_characteristic) / 2;
     if (out.topology.triangles == 0)
       throw std::runtime_error("the isosurface at " + std::to_string(iso) +
                                " is empty: choose a level above min(phi)");
@@ -125,7 +183,11 @@ PipelineResult run_pipeline(const PipelineConfig& config) {
           " failed the printability check (closed, manifold, oriented, positive volume)");
     result.meshes.push_back(out);
   }
-  for (std::size_t i = 0; i < meshes.size(); ++i) write_stl_binary(result.meshes[i].path, meshes[i]);
+  for (std::size_t i = 0; i < meshes.size(); ++i) {
+    for (Vec3& v : meshes[i].vertices)
+      v = (v - Vec3::Constant(0.5)) / result.input.scale + placed.input_center;  // back to input units
+    write_stl_binary(result.meshes[i].path, meshes[i]);
+  }
   result.seconds_mesh = seconds_since(t);
   result.seconds_total = seconds_since(start);
   return result;

@@ -21,6 +21,7 @@ namespace poreshell {
 
 struct PipelineConfig {
   std::string shape = "sphere";  // sphere | torus (section 3.2, on the unit cube)
+  std::filesystem::path mesh;    // a triangle mesh file instead of a shape (STL, OBJ, PLY, OFF, 3MF)
   int resolution = 131;          // grid points along the longest side (the paper's N)
   double alpha = 1400.0;         // nonlocal strength alpha
   double epsilon_m = 4.0;        // m in epsilon_m = m h / (2 sqrt 2 atanh 0.9)
@@ -42,10 +43,19 @@ struct MeshOutput {
   std::filesystem::path path;
   MeshTopology topology;
   std::int64_t spots_at_iso = 0;      // connected components of {phi > iso} on the band
-  std::int64_t pores_from_euler = 0;  // (chi of the unperforated shell - chi) / 2
+  std::int64_t pores_from_euler = 0;  // (chi of the unperforated narrow volume - chi) / 2
+};
+
+struct InputSummary {
+  std::string kind;  // "shape" or "mesh"
+  std::string name;  // shape name or file path
+  std::int64_t vertices = 0, triangles = 0, boundary_edges = 0, dropped_degenerate = 0;
+  std::int64_t euler_characteristic = 2;  // of the surface; the unperforated shell has twice this
+  double scale = 1.0;                     // grid units per input unit (meshes are fitted to the unit box)
 };
 
 struct PipelineResult {
+  InputSummary input;
   std::array<int, 3> grid_dims{};
   double h = 0.0;
   std::size_t band_voxels = 0, ghosts = 0;
@@ -56,9 +66,11 @@ struct PipelineResult {
   std::string solver_name;
   std::string inner_iteration;
   RunResult run;
-  SpotStats spots;  // at phi > 0
+  SpotStats spots;                      // at phi > 0
+  std::int64_t unperforated_euler = 0;  // chi of the narrow volume without pores
   std::vector<MeshOutput> meshes;
-  double seconds_band = 0.0, seconds_solve = 0.0, seconds_mesh = 0.0, seconds_total = 0.0;
+  double seconds_input = 0.0, seconds_band = 0.0, seconds_solve = 0.0, seconds_mesh = 0.0,
+         seconds_total = 0.0;
   int threads = 0;
 };
 

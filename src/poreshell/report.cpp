@@ -20,9 +20,19 @@ nlohmann::json to_json(const PipelineResult& r) {
   }
   json mesh = meshes.empty() ? json::object() : meshes.front();
   mesh["outputs"] = meshes;
+  mesh["unperforated_euler_characteristic"] = r.unperforated_euler;
   json energy_trace = json::array();
   for (const auto& [step, e] : r.run.energy_trace) energy_trace.push_back({step, e});
   return {
+      {"input",
+       {{"kind", r.input.kind},
+        {"name", r.input.name},
+        {"vertices", r.input.vertices},
+        {"triangles", r.input.triangles},
+        {"boundary_edges", r.input.boundary_edges},
+        {"dropped_degenerate", r.input.dropped_degenerate},
+        {"euler_characteristic", r.input.euler_characteristic},
+        {"scale_to_grid", r.input.scale}}},
       {"grid", {{"dims", r.grid_dims}, {"h", r.h}}},
       {"band",
        {{"voxels", r.band_voxels},
@@ -48,7 +58,8 @@ nlohmann::json to_json(const PipelineResult& r) {
         {"area_fraction", r.spots.area_fraction}}},
       {"mesh", mesh},
       {"seconds",
-       {{"band", r.seconds_band},
+       {{"input", r.seconds_input},
+        {"band", r.seconds_band},
         {"solve", r.seconds_solve},
         {"mesh", r.seconds_mesh},
         {"total", r.seconds_total}}},
