@@ -79,7 +79,8 @@ void print_summary(const poreshell::PipelineConfig& c, const poreshell::Pipeline
     fmt::print("  input    {} vertices, {} triangles ({} degenerate dropped), {} boundary edges, {:.2f} s\n",
                r.input.vertices, r.input.triangles, r.input.dropped_degenerate, r.input.boundary_edges,
                r.seconds_input);
-  fmt::print("  grid     {} x {} x {}, h = {:.6g}\n", d[0], d[1], d[2], r.h);
+  fmt::print("  grid     {} x {} x {}, h = {:.6g} ({:.6g} in the input's units)\n", d[0], d[1], d[2], r.h,
+             r.h / r.input.scale);
   fmt::print("  band     {} voxels, {} ghosts, {:.1f} MiB\n", r.band_voxels, r.ghosts,
              static_cast<double>(r.band_bytes) / (1024.0 * 1024.0));
   fmt::print("  model    alpha {:g}, epsilon {:.6g} (m = {:g}), phi-bar {:g}, dt {:.6g} ({:g} h)\n",
@@ -133,6 +134,10 @@ int run(int argc, char** argv) {
       ->type_name("N")
       ->check(number_above(0.0, false))
       ->capture_default_str();
+  app.add_option("--voxel-size", config.voxel_size,
+                 "grid spacing h in the input's units; sets the resolution instead of --resolution")
+      ->type_name("H")
+      ->check(number_above(0.0, false));
   app.add_option("--alpha", config.alpha,
                  "nonlocal strength α in eq. (2.1) (paper: 1400 sphere and torus, 2200 bunny)")
       ->type_name("A")

@@ -32,7 +32,19 @@ struct PlacedSurface {
   Box domain;
   InputSummary input;
   Vec3 input_center = Vec3::Zero();  // x_input = (x_grid - 0.5) / scale + input_center
+  int resolution = 0;                // grid points along the longest side
 };
+
+// Grid points along the longest side: --resolution, or from --voxel-size over the longest extent.
+int resolution_for(const PipelineConfig& c, double longest_extent, int padding_cells) {
+  if (!(c.voxel_size > 0.0)) return c.resolution;
+  const double n = std::round(longest_extent / c.voxel_size) + 1 + 2 * padding_cells;
+  if (n > 2048)
+    throw InputError("--voxel-size needs " + std::to_string(static_cast<long long>(n)) +
+                     " grid points along the longest side (at most 2048): choose a larger voxel size");
+  if (n < 17) throw InputError("--voxel-size is too coarse for this model: choose a smaller voxel size");
+  return static_cast<int>(n);
+}
 
 PlacedSurface place_surface(const PipelineConfig& c) {
   PlacedSurface placed;
@@ -43,6 +55,7 @@ PlacedSurface place_surface(const PipelineConfig& c) {
     placed.input.name = c.shape;
     placed.input.euler_characteristic = c.shape == "torus" ? 0 : 2;
     placed.input_center = Vec3::Constant(0.5);  // the shapes are already in grid coordinates
+    placed.resolution = resolution_for(c, 1.0, 0);
     return placed;
   }
   MeshInputStats stats;
@@ -62,7 +75,8 @@ PlacedSurface place_surface(const PipelineConfig& c) {
   }
   const double longest = (box.max - box.min).maxCoeff();
   if (!(longest > 0.0)) throw InputError("the mesh '" + c.mesh.string() + "' has zero size");
-  const double h = 1.0 / (c.resolution - 1);
+  placed.resolution = resolution_for(c, longest, kMeshPaddingCells);
+  const double h = 1.0 / (placed.resolution - 1);
   const double scale = (1.0 - 2 * kMeshPaddingCells * h) / longest;
   placed.input.scale = scale;
   placed.input_center = 0.5 * (box.min + box.max);
@@ -78,6 +92,8 @@ void validate(const PipelineConfig& c) {
     throw InputError("--resolution must be at least 9 grid points along the longest side");
   if (c.resolution > 2048)
     throw InputError("--resolution above 2048 is not supported by the reference solver");
+  if (c.voxel_size < 0.0 || !std::isfinite(c.voxel_size))
+    throw InputError("--voxel-size must be a positive length in the input's units");
   if (!(c.epsilon_m > 0.0)) throw InputError("--epsilon-m must be positive (the paper uses 4)");
   if (!(c.tolerance > 0.0)) throw InputError("--tol must be positive (the paper uses 1e-3)");
   if (c.max_steps < 1) throw InputError("--max-steps must be at least 1");
@@ -124,7 +140,7 @@ PipelineResult run_pipeline(const PipelineConfig& config) {
   const PlacedSurface placed = place_surface(config);
   result.input = placed.input;
   result.seconds_input = seconds_since(t);
-  const Grid grid = Grid::fitted(placed.domain, config.resolution);
+  const Grid grid = Grid::fitted(placed.domain, placed.resolution);
   result.grid_dims = grid.dims();
   result.h = grid.h();
 

@@ -23,6 +23,7 @@ struct PipelineConfig {
   std::string shape = "sphere";  // sphere | torus (section 3.2, on the unit cube)
   std::filesystem::path mesh;    // a triangle mesh file instead of a shape (STL, OBJ, PLY, OFF, 3MF)
   int resolution = 131;          // grid points along the longest side (the paper's N)
+  double voxel_size = 0.0;       // h in the input's units; when > 0 it sets the resolution instead
   double alpha = 1400.0;         // nonlocal strength alpha
   double epsilon_m = 4.0;        // m in epsilon_m = m h / (2 sqrt 2 atanh 0.9)
   double dt_in_h = 100.0;        // time step in units of h
@@ -57,7 +58,7 @@ struct InputSummary {
 struct PipelineResult {
   InputSummary input;
   std::array<int, 3> grid_dims{};
-  double h = 0.0;
+  double h = 0.0;  // in grid units (the longest side is 1); h / input.scale in the input's units
   std::size_t band_voxels = 0, ghosts = 0;
   BandStats band_stats;
   std::size_t band_bytes = 0;

@@ -33,7 +33,7 @@ nlohmann::json to_json(const PipelineResult& r) {
         {"dropped_degenerate", r.input.dropped_degenerate},
         {"euler_characteristic", r.input.euler_characteristic},
         {"scale_to_grid", r.input.scale}}},
-      {"grid", {{"dims", r.grid_dims}, {"h", r.h}}},
+      {"grid", {{"dims", r.grid_dims}, {"h", r.h}, {"h_input_units", r.h / r.input.scale}}},
       {"band",
        {{"voxels", r.band_voxels},
         {"ghosts", r.ghosts},
