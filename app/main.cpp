@@ -90,7 +90,10 @@ void print_summary(const poreshell::PipelineConfig& c, const poreshell::Pipeline
              r.run.reached_tolerance ? "<" : ">=", c.tolerance,
              yes_no(r.run.reached_tolerance, "reached", "NOT reached"), r.run.inner_iterations,
              r.run.inner_converged ? "" : " (some steps did not reach --inner-tol)");
-  fmt::print("  energy   first {:.6e}, final {:.6e}\n", r.run.energy_first, r.run.energy_last);
+  if (std::isnan(r.run.energy_first))
+    fmt::print("  energy   not evaluated (--energy-every 0)\n");
+  else
+    fmt::print("  energy   first {:.6e}, final {:.6e}\n", r.run.energy_first, r.run.energy_last);
   fmt::print("  pattern  {} spots at phi > 0, size CV {:.3f}, area fraction {:.3f}\n", r.spots.count,
              r.spots.size_cv, r.spots.area_fraction);
   fmt::print("  time     band {:.2f} s, solve {:.2f} s, mesh+write {:.2f} s, total {:.2f} s ({} threads)\n",
@@ -170,6 +173,12 @@ int run(int argc, char** argv) {
       ->type_name("C[,C...]")
       ->delimiter(',')
       ->allow_extra_args(false)  // one token per --iso, so "--iso 0.3 OUT" cannot swallow a stray word
+      ->capture_default_str();
+  app.add_option("--energy-every", config.energy_every,
+                 "evaluate the discrete energy (3.2) every K steps and at the end; 0 = never (saves its "
+                 "Poisson factorisation on large grids)")
+      ->type_name("K")
+      ->check(number_above(0.0, true))
       ->capture_default_str();
   app.add_option("--threads", threads, "worker threads (oneTBB); 0 = all cores")
       ->type_name("N")

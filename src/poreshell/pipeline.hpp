@@ -34,7 +34,7 @@ struct PipelineConfig {
   double amplitude = 0.5;  // phi0 = phi_bar + amplitude * rand, rand uniform in [-1, 1]
   std::vector<double> iso_levels{0.0};
   InnerOptions inner;
-  int energy_every = 10;         // energy evaluation interval in steps (0: start and end only)
+  int energy_every = 10;         // evaluate the energy (3.2) every K steps and at the end; 0: never
   std::filesystem::path output;  // .stl; with several iso levels OUT-isoC.stl per level
   std::function<void(const StepProgress&)> on_step;
 };

@@ -3,6 +3,7 @@
 // (section 3), with e_c the root mean square over the band voxels.
 
 #include <functional>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -31,7 +32,8 @@ struct RunResult {
   bool reached_tolerance = false;
   bool inner_converged = true;  // every step reached its inner tolerance
   long long inner_iterations = 0;
-  double energy_first = 0.0, energy_last = 0.0;
+  double energy_first = std::numeric_limits<double>::quiet_NaN();  // NaN when no energy was evaluated
+  double energy_last = std::numeric_limits<double>::quiet_NaN();
   std::vector<std::pair<int, double>> energy_trace;  // (step, energy) where evaluated
 };
 
