@@ -11,6 +11,7 @@
 #include <numbers>
 #include <utility>
 
+#include "pattern_run.hpp"
 #include "poreshell/band.hpp"
 #include "poreshell/initial_condition.hpp"
 #include "poreshell/mesh.hpp"
@@ -22,6 +23,7 @@
 #include "poreshell/time_stepping.hpp"
 
 using namespace poreshell;
+using poreshell::test_support::PatternRun;
 
 namespace {
 
@@ -93,31 +95,8 @@ double rim_distance(const Vec3& p) {
   return std::hypot(rho - kRadius, p.z() - kCenter.z());
 }
 
-struct PatternRun {
-  SpotStats spots;
-  std::vector<double> phi;
-  int steps = 0;
-};
-
 PatternRun run_pattern(const NarrowBand& band, std::uint64_t seed, const char* label) {
-  const double eps = epsilon_m(4, band.grid().h());
-  const double eps131 = epsilon_m(4, 1.0 / 130);
-  const ModelParameters model{1400 * (eps131 * eps131) / (eps * eps), eps, -0.3};
-  ReferenceSolver solver(band, model, 100 * band.grid().h());
-  PatternRun r;
-  r.phi = random_initial_condition(band, -0.3, 0.5, seed);
-  RunOptions options;
-  options.tolerance = 1e-3;
-  options.max_steps = 1500;
-  const RunResult result = run_to_steady_state(solver, r.phi, nullptr, options);
-  EXPECT_TRUE(result.reached_tolerance) << label << " seed " << seed;
-  EXPECT_TRUE(result.inner_converged) << label << " seed " << seed;
-  r.steps = result.steps;
-  r.spots = spot_statistics(band, r.phi, 0.0);
-  std::printf("%s seed %llu: %d steps, %lld spots, size CV %.3f, area fraction %.3f\n", label,
-              static_cast<unsigned long long>(seed), r.steps, static_cast<long long>(r.spots.count),
-              r.spots.size_cv, r.spots.area_fraction);
-  return r;
+  return test_support::run_pattern(band, 1400, seed, label);
 }
 
 double coefficient_of_variation(const std::vector<std::int64_t>& sizes) {

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include "pattern_run.hpp"
 #include "poreshell/band.hpp"
 #include "poreshell/initial_condition.hpp"
 #include "poreshell/pattern.hpp"
@@ -13,16 +14,11 @@
 #include "poreshell/time_stepping.hpp"
 
 using namespace poreshell;
+using poreshell::test_support::PatternRun;
 
 namespace {
 
 constexpr int kN = 65;
-
-struct PatternRun {
-  SpotStats spots;
-  std::vector<double> phi;
-  int steps = 0;
-};
 
 const NarrowBand& sphere_band() {
   static const NarrowBand band =
@@ -30,27 +26,8 @@ const NarrowBand& sphere_band() {
   return band;
 }
 
-// alpha relative to the paper's 1400 at N = 131.
 PatternRun run_pattern(double paper_alpha, std::uint64_t seed) {
-  const NarrowBand& band = sphere_band();
-  const double eps = epsilon_m(4, band.grid().h());
-  const double eps131 = epsilon_m(4, 1.0 / 130);
-  const ModelParameters model{paper_alpha * (eps131 * eps131) / (eps * eps), eps, -0.3};
-  ReferenceSolver solver(band, model, 100 * band.grid().h());
-  PatternRun r;
-  r.phi = random_initial_condition(band, -0.3, 0.5, seed);
-  RunOptions options;
-  options.tolerance = 1e-3;
-  options.max_steps = 1500;
-  const RunResult result = run_to_steady_state(solver, r.phi, nullptr, options);
-  EXPECT_TRUE(result.reached_tolerance);
-  EXPECT_TRUE(result.inner_converged);
-  r.steps = result.steps;
-  r.spots = spot_statistics(band, r.phi, 0.0);
-  std::printf("alpha(paper) %g seed %llu: %d steps, %lld spots, size CV %.3f, area fraction %.3f\n",
-              paper_alpha, static_cast<unsigned long long>(seed), r.steps,
-              static_cast<long long>(r.spots.count), r.spots.size_cv, r.spots.area_fraction);
-  return r;
+  return test_support::run_pattern(sphere_band(), paper_alpha, seed, "sphere");
 }
 
 }  // namespace
