@@ -110,14 +110,8 @@ class Lib3mfReader {
       NMR::PLib3MFModelObjectResource* object = nullptr;
       check(NMR::lib3mf_builditem_getobjectresource(item, &object), item);
       const Lib3mfHandle object_handle(object);
-      Eigen::Affine3d transform = Eigen::Affine3d::Identity();
-      BOOL has_transform = 0;
-      check(NMR::lib3mf_builditem_hasobjecttransform(item, &has_transform), item);
-      if (has_transform) {
-        NMR::MODELTRANSFORM t;
-        check(NMR::lib3mf_builditem_getobjecttransform(item, &t), item);
-        transform = to_affine(t);
-      }
+      const Eigen::Affine3d transform = read_transform(item, NMR::lib3mf_builditem_hasobjecttransform,
+                                                       NMR::lib3mf_builditem_getobjecttransform);
       append_object(object, transform, out, 0);
     }
     return out;
@@ -130,6 +124,17 @@ class Lib3mfReader {
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 4; ++c) a.matrix()(r, c) = t.m_fFields[r][c];
     return a;
+  }
+
+  // Build items and components store their optional transform alike, behind different functions.
+  template <class Owner, class HasTransform, class GetTransform>
+  Eigen::Affine3d read_transform(Owner* owner, HasTransform has_transform, GetTransform get_transform) {
+    BOOL has = 0;
+    check(has_transform(owner, &has), owner);
+    if (!has) return Eigen::Affine3d::Identity();
+    NMR::MODELTRANSFORM t;
+    check(get_transform(owner, &t), owner);
+    return to_affine(t);
   }
 
   void append_object(NMR::PLib3MFModelObjectResource* object, const Eigen::Affine3d& transform,
@@ -165,14 +170,8 @@ class Lib3mfReader {
         NMR::PLib3MFModelObjectResource* child = nullptr;
         check(NMR::lib3mf_component_getobjectresource(component, &child), component);
         const Lib3mfHandle child_handle(child);
-        Eigen::Affine3d local = Eigen::Affine3d::Identity();
-        BOOL has_transform = 0;
-        check(NMR::lib3mf_component_hastransform(component, &has_transform), component);
-        if (has_transform) {
-          NMR::MODELTRANSFORM t;
-          check(NMR::lib3mf_component_gettransform(component, &t), component);
-          local = to_affine(t);
-        }
+        const Eigen::Affine3d local =
+            read_transform(component, NMR::lib3mf_component_hastransform, NMR::lib3mf_component_gettransform);
         append_object(child, transform * local, out, depth + 1);
       }
     }

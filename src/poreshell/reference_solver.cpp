@@ -11,14 +11,6 @@
 
 namespace poreshell {
 
-void validate(const ModelParameters& p, double dt) {
-  if (!(p.alpha >= 0.0) || !std::isfinite(p.alpha)) throw InputError("alpha must be a finite number >= 0");
-  if (!(p.epsilon > 0.0) || !std::isfinite(p.epsilon))
-    throw InputError("epsilon must be a positive finite number");
-  if (!(std::abs(p.phi_bar) < 1.0)) throw InputError("phi-bar must lie strictly between -1 and 1");
-  if (!(dt > 0.0) || !std::isfinite(dt)) throw InputError("the time step must be a positive finite number");
-}
-
 InnerIteration parse_inner_iteration(const std::string& name) {
   if (name == "jacobi") return InnerIteration::jacobi;
   if (name == "gauss-seidel") return InnerIteration::gauss_seidel;
@@ -62,6 +54,11 @@ ReferenceSolver::ReferenceSolver(const NarrowBand& band, const ModelParameters& 
   if (!(inner_.tolerance > 0.0)) throw InputError("the inner tolerance must be positive");
   if (inner_.max_iterations <= 0) inner_.max_iterations = 200000;
   mu_.assign(band.extended_size(), 0.0);
+  if (inner_.method == InnerIteration::gauss_seidel)
+    for (std::size_t v = 0; v < band.size(); ++v) {
+      const Coord c = band.voxels()[v];
+      colours_[(c.i + c.j + c.k) & 1].push_back(v);
+    }
 }
 
 void ReferenceSolver::initialise_mu(std::span<const double> phi) {
@@ -96,12 +93,6 @@ StepReport ReferenceSolver::relaxation_step(std::vector<double>& phi, bool red_b
     p_next = p;
     m_next = mu_;
   }
-  std::vector<std::size_t> colour[2];
-  if (red_black)
-    for (std::size_t v = 0; v < n; ++v) {
-      const Coord c = band_.voxels()[v];
-      colour[(c.i + c.j + c.k) & 1].push_back(v);
-    }
 
   // One pointwise update: the cubic term linearised about the current value, neighbours lagged, and the
   // 2x2 system in (phi_v, mu_v) solved exactly.
@@ -126,7 +117,7 @@ StepReport ReferenceSolver::relaxation_step(std::vector<double>& phi, bool red_b
   constexpr int kCheckEvery = 10;
   for (int sweep = 1;; ++sweep) {
     if (red_black) {
-      for (const auto& set : colour) {
+      for (const auto& set : colours_) {
         tbb::parallel_for(std::size_t{0}, set.size(), [&](std::size_t s) {
           const std::size_t v = set[s];
           double pv, mv;

@@ -64,7 +64,8 @@ class ReferenceSolver final : public TimeStepper {
   double dt_;
   InnerOptions inner_;
   SparseMatrix laplacian_;
-  std::vector<double> mu_;  // extended (band + ghosts), kept between steps as the warm start
+  std::vector<std::size_t> colours_[2];  // red-black sets of band voxels (gauss-seidel only)
+  std::vector<double> mu_;               // extended (band + ghosts), kept between steps as the warm start
   bool mu_ready_ = false;
 };
 
