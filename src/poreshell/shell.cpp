@@ -1,0 +1,173 @@
+#include "poreshell/shell.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "poreshell/error.hpp"
+#include "poreshell/isosurface.hpp"
+
+namespace poreshell {
+namespace {
+
+constexpr int kLeafBlock = 8;        // side of the blocks whose points are tested one by one
+constexpr int kTopBlock = 64;        // side of the blocks the scan starts from (one task each)
+constexpr double kReachCells = 2.0;  // samples beyond the slab, so every crossing cell is complete
+
+// Closest point of an arbitrary point: exact where the surface gives one, else the paper's formula
+// x - grad psi psi / |grad psi|^2 with central differences of step `h`.
+Vec3 closest_point_of(const Surface& surface, const Vec3& x, double h) {
+  if (auto cp = surface.closest_point(x)) return *cp;
+  Vec3 g;
+  for (int a = 0; a < 3; ++a) {
+    Vec3 e = Vec3::Zero();
+    e[a] = h;
+    g[a] = (surface.distance(x + e) - surface.distance(x - e)) / (2.0 * h);
+  }
+  const double g2 = g.squaredNorm();
+  return g2 > 0.0 ? Vec3(x - g * (surface.distance(x) / g2)) : x;
+}
+
+// Grid points of the block [origin, origin + size)^3 within `reach` of the surface (by the unsigned
+// distance, which is 1-Lipschitz: whole blocks are skipped on one query), in key order per leaf.
+void scan_block(const Surface& surface, const Grid& grid, const Coord& origin, int size, double reach,
+                std::vector<Coord>& out) {
+  const auto& d = grid.dims();
+  if (origin.i >= d[0] || origin.j >= d[1] || origin.k >= d[2]) return;
+  const double h = grid.h();
+  const Vec3 center = grid.position(origin) + Vec3::Constant(0.5 * (size - 1) * h);
+  if (std::abs(surface.distance(center)) > reach + 0.5 * std::sqrt(3.0) * (size - 1) * h) return;
+  if (size > kLeafBlock) {
+    const int half = size / 2;
+    for (int c = 0; c < 8; ++c)
+      scan_block(surface, grid,
+                 {origin.i + (c & 1) * half, origin.j + ((c >> 1) & 1) * half, origin.k + (c >> 2) * half},
+                 half, reach, out);
+    return;
+  }
+  for (int k = origin.k; k < std::min(origin.k + size, d[2]); ++k)
+    for (int j = origin.j; j < std::min(origin.j + size, d[1]); ++j)
+      for (int i = origin.i; i < std::min(origin.i + size, d[0]); ++i)
+        if (std::abs(surface.distance(grid.position({i, j, k}))) <= reach) out.push_back({i, j, k});
+}
+
+}  // namespace
+
+WallOffset parse_wall_offset(const std::string& name) {
+  if (name == "centered") return WallOffset::centered;
+  if (name == "inside") return WallOffset::inside;
+  if (name == "outside") return WallOffset::outside;
+  throw InputError("unknown --offset '" + name +
+                   "': use centered (wall around the surface), inside or outside (wall on that side)");
+}
+
+std::string to_string(WallOffset offset) {
+  switch (offset) {
+    case WallOffset::inside:
+      return "inside";
+    case WallOffset::outside:
+      return "outside";
+    default:
+      return "centered";
+  }
+}
+
+double interpolate_band(const NarrowBand& band, std::span<const double> phi, const Vec3& p, bool* complete) {
+  const Vec3 q = band.grid().to_index_space(p);
+  const Coord base{static_cast<int>(std::floor(q.x())), static_cast<int>(std::floor(q.y())),
+                   static_cast<int>(std::floor(q.z()))};
+  const Vec3 t = q - Vec3(base.i, base.j, base.k);
+  double sum = 0.0, weights = 0.0;
+  bool all = true;
+  for (int corner = 0; corner < 8; ++corner) {
+    const int di = corner & 1, dj = (corner >> 1) & 1, dk = (corner >> 2) & 1;
+    const double w = (di ? t.x() : 1 - t.x()) * (dj ? t.y() : 1 - t.y()) * (dk ? t.z() : 1 - t.z());
+    const std::int64_t v = band.find({base.i + di, base.j + dj, base.k + dk});
+    if (v < 0) {
+      all = all && w == 0.0;  // a corner of weight 0 does not matter
+      continue;
+    }
+    sum += w * phi[static_cast<std::size_t>(v)];
+    weights += w;
+  }
+  if (complete != nullptr) *complete = all;
+  return weights > 0.0 ? sum / weights : -1.0;
+}
+
+ShellSamples sample_shell(const Surface& surface, const NarrowBand& band, std::span<const double> phi,
+                          const ShellOptions& options) {
+  const double t = options.thickness;
+  if (!(t > 0.0) || !std::isfinite(t)) throw InputError("the wall thickness must be a positive length");
+  if (!(options.pattern_length > 0.0)) throw std::invalid_argument("shell: pattern_length must be > 0");
+  if (phi.size() < band.size()) throw std::invalid_argument("shell: one phi value per band voxel needed");
+  const double h =
+      options.spacing > 0.0 ? options.spacing : std::min(band.grid().h(), t / kMinCellsAcrossWall);
+  const double center_offset = options.offset == WallOffset::inside    ? -0.5 * t
+                               : options.offset == WallOffset::outside ? 0.5 * t
+                                                                       : 0.0;
+  const double reach = std::abs(center_offset) + 0.5 * t + kReachCells * h;  // in unsigned distance
+
+  // A grid of spacing h around the surface's box, one spare cell beyond the reach on every side.
+  const Box box = surface.bounds();
+  const Vec3 margin = Vec3::Constant(reach + 2.0 * h);
+  const Vec3 extent = box.max - box.min + 2.0 * margin;
+  std::array<int, 3> dims{};
+  for (int a = 0; a < 3; ++a) {
+    const double n = std::ceil(extent[a] / h) + 1.0;
+    if (n > 1 << 20)
+      throw InputError("the shell's grid would be too large: choose a larger voxel size or wall");
+    dims[a] = static_cast<int>(n);
+  }
+  ShellSamples out;
+  out.grid = Grid(box.min - margin, h, dims);
+  out.pattern_length = options.pattern_length;
+
+  const std::array<int, 3> tops{(dims[0] + kTopBlock - 1) / kTopBlock, (dims[1] + kTopBlock - 1) / kTopBlock,
+                                (dims[2] + kTopBlock - 1) / kTopBlock};
+  const std::size_t top_count = std::size_t(tops[0]) * std::size_t(tops[1]) * std::size_t(tops[2]);
+  std::vector<std::vector<Coord>> per_block(top_count);
+  tbb::parallel_for(std::size_t{0}, top_count, [&](std::size_t b) {
+    const Coord origin{static_cast<int>(b % std::size_t(tops[0])) * kTopBlock,
+                       static_cast<int>((b / std::size_t(tops[0])) % std::size_t(tops[1])) * kTopBlock,
+                       static_cast<int>(b / (std::size_t(tops[0]) * std::size_t(tops[1]))) * kTopBlock};
+    scan_block(surface, out.grid, origin, kTopBlock, reach, per_block[b]);
+  });
+  for (auto& block : per_block) {
+    out.points.insert(out.points.end(), block.begin(), block.end());
+    block = {};
+  }
+
+  const bool signed_needed = options.offset != WallOffset::centered;
+  out.wall.resize(out.points.size());
+  out.pattern.resize(out.points.size());
+  std::vector<char> incomplete(out.points.size(), 0);
+  tbb::parallel_for(std::size_t{0}, out.points.size(), [&](std::size_t n) {
+    const Vec3 x = out.grid.position(out.points[n]);
+    const Vec3 cp = closest_point_of(surface, x, h);
+    double d = surface.distance(x);
+    if (signed_needed && options.side) d = std::copysign(std::abs(d), options.side(x, cp));
+    out.wall[n] = std::abs(d - center_offset) - 0.5 * t;
+    bool complete = true;
+    out.pattern[n] = interpolate_band(band, phi, cp, &complete);
+    incomplete[n] = !complete;
+  });
+  for (char c : incomplete) out.incomplete_stencils += c;
+  return out;
+}
+
+TriangleMesh shell_mesh(const ShellSamples& samples, double iso) {
+  std::vector<double> values(samples.points.size());
+  tbb::parallel_for(std::size_t{0}, values.size(), [&](std::size_t n) {
+    values[n] = std::max(samples.wall[n], samples.pattern_length * (samples.pattern[n] - iso));
+  });
+  const SparseField field{&samples.grid, samples.points, values, samples.grid.h()};
+  return extract_isosurface(field, 0.0);
+}
+
+TriangleMesh unperforated_shell_mesh(const ShellSamples& samples) {
+  const SparseField field{&samples.grid, samples.points, samples.wall, samples.grid.h()};
+  return extract_isosurface(field, 0.0);
+}
+
+}  // namespace poreshell
