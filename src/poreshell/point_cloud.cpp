@@ -1,0 +1,168 @@
+#include "poreshell/point_cloud.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <queue>
+
+#include "poreshell/error.hpp"
+
+namespace poreshell {
+namespace {
+
+constexpr std::int32_t kLeafSize = 8;
+
+}  // namespace
+
+PointTree::PointTree(const std::vector<Vec3>& points, std::vector<double> radii)
+    : points_(points), radii_(std::move(radii)) {
+  if (points_.empty()) throw InputError("a point tree needs at least one point");
+  if (points_.size() > static_cast<std::size_t>(INT32_MAX / 2))
+    throw InputError("too many points (over 2^30)");
+  if (radii_.empty()) radii_.assign(points_.size(), 0.0);
+  order_.resize(points_.size());
+  std::iota(order_.begin(), order_.end(), 0);
+  nodes_.reserve(2 * points_.size() / kLeafSize + 2);
+  nodes_.emplace_back();
+  build(0, 0, static_cast<std::int32_t>(order_.size()));
+}
+
+void PointTree::build(std::int32_t node, std::int32_t begin, std::int32_t end) {
+  Node n;
+  n.lo = n.hi = points_[static_cast<std::size_t>(order_[static_cast<std::size_t>(begin)])];
+  for (std::int32_t s = begin; s < end; ++s) {
+    const auto i = static_cast<std::size_t>(order_[static_cast<std::size_t>(s)]);
+    n.lo = n.lo.cwiseMin(points_[i]);
+    n.hi = n.hi.cwiseMax(points_[i]);
+    n.radius = std::max(n.radius, radii_[i]);
+  }
+  if (end - begin <= kLeafSize) {
+    n.first = begin;
+    n.count = end - begin;
+    nodes_[static_cast<std::size_t>(node)] = n;
+    return;
+  }
+  int axis = 0;
+  (n.hi - n.lo).maxCoeff(&axis);
+  const std::int32_t mid = begin + (end - begin) / 2;
+  // Ties broken by index so that the tree, and hence every answer, is deterministic.
+  std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
+                   [&](std::int32_t a, std::int32_t b) {
+                     const double pa = points_[static_cast<std::size_t>(a)][axis];
+                     const double pb = points_[static_cast<std::size_t>(b)][axis];
+                     return pa < pb || (pa == pb && a < b);
+                   });
+  const auto left = static_cast<std::int32_t>(nodes_.size());
+  nodes_.emplace_back();
+  nodes_.emplace_back();
+  n.first = left;
+  n.count = 0;
+  nodes_[static_cast<std::size_t>(node)] = n;
+  build(left, begin, mid);
+  build(left + 1, mid, end);
+}
+
+std::pair<std::size_t, double> PointTree::nearest(const Vec3& x) const {
+  return closest(x, [&](std::size_t i) { return (points_[i] - x).norm(); });
+}
+
+std::vector<std::size_t> PointTree::k_nearest(const Vec3& x, std::size_t k) const {
+  k = std::min(k, points_.size());
+  // Max-heap of the best k (distance, index); its top is the current k-th distance.
+  std::priority_queue<std::pair<double, std::size_t>> best;
+  const auto kth = [&] {
+    return best.size() < k ? std::numeric_limits<double>::infinity() : best.top().first;
+  };
+  std::vector<std::int32_t> stack{0};
+  while (!stack.empty()) {
+    const Node& n = nodes_[static_cast<std::size_t>(stack.back())];
+    stack.pop_back();
+    if (bound(n, x) > kth()) continue;
+    if (n.count == 0) {
+      stack.push_back(n.first);
+      stack.push_back(n.first + 1);
+      continue;
+    }
+    for (std::int32_t s = n.first; s < n.first + n.count; ++s) {
+      const auto i = static_cast<std::size_t>(order_[static_cast<std::size_t>(s)]);
+      const std::pair<double, std::size_t> item{(points_[i] - x).norm(), i};
+      if (best.size() < k) {
+        best.push(item);
+      } else if (item < best.top()) {
+        best.pop();
+        best.push(item);
+      }
+    }
+  }
+  std::vector<std::size_t> out(best.size());
+  for (std::size_t j = out.size(); j-- > 0; best.pop()) out[j] = best.top().second;
+  return out;
+}
+
+SplatSurface::SplatSurface(std::vector<Vec3> points, const SplatOptions& options)
+    : points_(std::move(points)) {
+  if (options.normal_neighbors < 3 || options.radius_neighbor < 1)
+    throw InputError("splat fit: need at least 3 neighbours for a normal and 1 for a radius");
+  const auto need = static_cast<std::size_t>(std::max(options.normal_neighbors, options.radius_neighbor + 1));
+  if (points_.size() < need)
+    throw InputError("the point cloud has " + std::to_string(points_.size()) + " points; at least " +
+                     std::to_string(need) + " are needed to fit a surface to it");
+  const PointTree plain(points_);
+  normals_.resize(points_.size());
+  radii_.resize(points_.size());
+  tbb::parallel_for(std::size_t{0}, points_.size(), [&](std::size_t i) {
+    const auto near = plain.k_nearest(points_[i], need);
+    // Normal: the least-variance direction of the neighbourhood (PCA plane fit). Its sign is irrelevant
+    // for an unsigned distance.
+    Vec3 mean = Vec3::Zero();
+    const auto nk = static_cast<std::size_t>(options.normal_neighbors);
+    for (std::size_t j = 0; j < nk; ++j) mean += points_[near[j]];
+    mean /= static_cast<double>(nk);
+    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+    for (std::size_t j = 0; j < nk; ++j) {
+      const Vec3 d = points_[near[j]] - mean;
+      cov += d * d.transpose();
+    }
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+    normals_[i] = eig.eigenvectors().col(0).normalized();
+    // near[0] is the point itself (or a duplicate at distance 0).
+    radii_[i] = (points_[near[static_cast<std::size_t>(options.radius_neighbor)]] - points_[i]).norm();
+  });
+  tree_.emplace(points_, radii_);
+}
+
+double SplatSurface::splat_distance(std::size_t i, const Vec3& x, Vec3* closest) const {
+  const Vec3 q = x - points_[i];
+  const double a = q.dot(normals_[i]);
+  const Vec3 t = q - a * normals_[i];
+  const double tn = t.norm();
+  const double r = radii_[i];
+  const Vec3 in_plane = tn > r ? t * (r / tn) : t;
+  if (closest) *closest = points_[i] + in_plane;
+  return (q - in_plane).norm();
+}
+
+double SplatSurface::distance(const Vec3& p) const {
+  return tree_->closest(p, [&](std::size_t i) { return splat_distance(i, p, nullptr); }).second;
+}
+
+std::optional<Vec3> SplatSurface::closest_point(const Vec3& p) const {
+  const std::size_t i = tree_->closest(p, [&](std::size_t j) { return splat_distance(j, p, nullptr); }).first;
+  Vec3 cp;
+  splat_distance(i, p, &cp);
+  return cp;
+}
+
+Box SplatSurface::bounds() const {
+  Box box{points_.front(), points_.front()};
+  for (std::size_t i = 0; i < points_.size(); ++i) {
+    box.min = box.min.cwiseMin(points_[i] - Vec3::Constant(radii_[i]));
+    box.max = box.max.cwiseMax(points_[i] + Vec3::Constant(radii_[i]));
+  }
+  return box;
+}
+
+}  // namespace poreshell

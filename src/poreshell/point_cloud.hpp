@@ -1,0 +1,121 @@
+#pragma once
+// Point clouds as surfaces without a PDE (the default "direct" route): each point carries a small disc
+// (a splat) in its tangent plane, fitted to its nearest neighbours, and the surface is the union of the
+// discs. Distance to a union of sets is the minimum of the distances to each, so it is exactly
+// 1-Lipschitz (as the band builder's block culling needs), and the closest point is the closest point
+// on the nearest disc. A spatial tree over the points answers nearest-neighbour and disc queries.
+
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include "poreshell/surface.hpp"
+
+namespace poreshell {
+
+// Bounding-volume tree over points, each with a radius (0 for plain points): the bound for a node is
+// the distance to its box of centres minus its largest radius. Deterministic (median splits).
+class PointTree {
+ public:
+  explicit PointTree(const std::vector<Vec3>& points, std::vector<double> radii = {});
+
+  std::size_t size() const { return order_.size(); }
+  const Vec3& point(std::size_t i) const { return points_[i]; }
+
+  // Index and distance of the nearest point (ties: the lower index).
+  std::pair<std::size_t, double> nearest(const Vec3& x) const;
+  // The k nearest points, nearest first (ties: the lower index).
+  std::vector<std::size_t> k_nearest(const Vec3& x, std::size_t k) const;
+
+  // Smallest item_distance(i) over all items, pruning nodes whose bound exceeds the best so far.
+  // item_distance(i) must be >= |x - point(i)| - radius(i).
+  template <class F>
+  std::pair<std::size_t, double> closest(const Vec3& x, F&& item_distance) const;
+
+ private:
+  struct Node {
+    Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();
+    double radius = 0.0;     // largest item radius below this node
+    std::int32_t first = 0;  // leaf: first slot in order_; inner: left child (right child is first + 1)
+    std::int32_t count = 0;  // leaf: number of items; inner: 0
+  };
+  void build(std::int32_t node, std::int32_t begin, std::int32_t end);
+  double bound(const Node& n, const Vec3& x) const {
+    const Vec3 d = (n.lo - x).cwiseMax(x - n.hi).cwiseMax(0.0);
+    return d.norm() - n.radius;
+  }
+
+  std::vector<Vec3> points_;
+  std::vector<double> radii_;
+  std::vector<std::int32_t> order_;  // item indices in leaf order
+  std::vector<Node> nodes_;
+};
+
+struct SplatOptions {
+  int normal_neighbors = 10;  // points in the plane fit (PCA) of each splat's normal
+  int radius_neighbor = 2;    // splat radius = distance to this nearest neighbour (docs/point-clouds.md)
+};
+
+class SplatSurface final : public Surface {
+ public:
+  // Throws InputError if there are fewer points than a plane fit needs.
+  explicit SplatSurface(std::vector<Vec3> points, const SplatOptions& options = {});
+
+  double distance(const Vec3& p) const override;  // unsigned
+  std::optional<Vec3> closest_point(const Vec3& p) const override;
+  Box bounds() const override;
+  std::string name() const override { return "point splats"; }
+
+  std::size_t size() const { return points_.size(); }
+  const Vec3& normal(std::size_t i) const { return normals_[i]; }
+  double radius(std::size_t i) const { return radii_[i]; }
+
+ private:
+  // Distance from x to splat i, and its closest point.
+  double splat_distance(std::size_t i, const Vec3& x, Vec3* closest) const;
+
+  std::vector<Vec3> points_, normals_;
+  std::vector<double> radii_;
+  std::optional<PointTree> tree_;
+};
+
+// ---- template implementation ----
+
+template <class F>
+std::pair<std::size_t, double> PointTree::closest(const Vec3& x, F&& item_distance) const {
+  std::size_t best = std::numeric_limits<std::size_t>::max();
+  double best_d = std::numeric_limits<double>::infinity();
+  std::int32_t stack[128];  // depth <= 31 for 2^31 points, two entries a level
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& n = nodes_[static_cast<std::size_t>(stack[--top])];
+    if (bound(n, x) > best_d) continue;
+    if (n.count > 0) {
+      for (std::int32_t s = n.first; s < n.first + n.count; ++s) {
+        const auto i = static_cast<std::size_t>(order_[static_cast<std::size_t>(s)]);
+        const double d = item_distance(i);
+        if (d < best_d || (d == best_d && i < best)) {
+          best_d = d;
+          best = i;
+        }
+      }
+      continue;
+    }
+    // Nearer child last, so it is popped first.
+    const double bl = bound(nodes_[static_cast<std::size_t>(n.first)], x);
+    const double br = bound(nodes_[static_cast<std::size_t>(n.first + 1)], x);
+    if (bl < br) {
+      stack[top++] = n.first + 1;
+      stack[top++] = n.first;
+    } else {
+      stack[top++] = n.first;
+      stack[top++] = n.first + 1;
+    }
+  }
+  return {best, best_d};
+}
+
+}  // namespace poreshell
