@@ -1,9 +1,11 @@
 #include "poreshell/band.hpp"
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "poreshell/error.hpp"
 
@@ -40,29 +42,54 @@ bool in_band(const LevelSetSample& s, double delta) {
   return std::abs(s.psi) < delta * s.gradient.norm();
 }
 
-// Candidate voxels of one block: those that satisfy the band rule.
+// A band voxel found by the scan, with its psi (kept: the band stores it).
+struct ScannedVoxel {
+  std::int64_t key;
+  double psi;
+};
+
+// Candidate voxels of one block: those that satisfy the band rule. psi is cached over the block and a
+// one-cell halo, so the central differences reuse the neighbours' own values: about 3x fewer distance
+// queries near the surface, which is where a mesh's queries cost.
 void scan_block(const Surface& surface, const Grid& grid, const Coord& block_origin, double delta,
-                std::vector<std::int64_t>& out) {
+                std::vector<ScannedVoxel>& out) {
+  constexpr int kSide = kBlock + 2;
+  std::array<double, kSide * kSide * kSide> cache;
+  cache.fill(std::numeric_limits<double>::quiet_NaN());
+  auto psi_at = [&](int i, int j, int k) {  // block-local coordinates, -1 .. kBlock
+    double& slot = cache[static_cast<std::size_t>((i + 1) + kSide * ((j + 1) + kSide * (k + 1)))];
+    if (std::isnan(slot))
+      slot = surface.distance(grid.position({block_origin.i + i, block_origin.j + j, block_origin.k + k}));
+    return slot;
+  };
   const auto& d = grid.dims();
-  for (int k = block_origin.k; k < std::min(block_origin.k + kBlock, d[2]); ++k)
-    for (int j = block_origin.j; j < std::min(block_origin.j + kBlock, d[1]); ++j)
-      for (int i = block_origin.i; i < std::min(block_origin.i + kBlock, d[0]); ++i) {
-        const Coord c{i, j, k};
-        const double psi = surface.distance(grid.position(c));
-        // |grad_h psi| <= sqrt(3) for a 1-Lipschitz psi: skip the gradient where it cannot matter.
-        if (std::abs(psi) >= delta * std::sqrt(3.0)) continue;
-        if (in_band(sample_level_set(surface, grid, c), delta)) out.push_back(grid.key(c));
+  const double inv_2h = 0.5 / grid.h();
+  for (int k = 0; k < std::min(kBlock, d[2] - block_origin.k); ++k)
+    for (int j = 0; j < std::min(kBlock, d[1] - block_origin.j); ++j)
+      for (int i = 0; i < std::min(kBlock, d[0] - block_origin.i); ++i) {
+        const double psi = psi_at(i, j, k);
+        // |grad_h psi| <= sqrt(3) for a 1-Lipschitz psi, so |psi| >= sqrt(3) delta is outside the band,
+        // and so are the next points of the row that psi's Lipschitz bound keeps that far.
+        if (std::abs(psi) >= delta * std::sqrt(3.0)) {
+          i += static_cast<int>(std::floor((std::abs(psi) - delta * std::sqrt(3.0)) / grid.h()));
+          continue;
+        }
+        const Vec3 gradient((psi_at(i + 1, j, k) - psi_at(i - 1, j, k)) * inv_2h,
+                            (psi_at(i, j + 1, k) - psi_at(i, j - 1, k)) * inv_2h,
+                            (psi_at(i, j, k + 1) - psi_at(i, j, k - 1)) * inv_2h);
+        if (in_band({psi, gradient}, delta))
+          out.push_back({grid.key({block_origin.i + i, block_origin.j + j, block_origin.k + k}), psi});
       }
 }
 
-std::vector<std::int64_t> scan_band_keys(const Surface& surface, const Grid& grid, double delta,
-                                         BandStats& stats) {
+std::vector<ScannedVoxel> scan_band(const Surface& surface, const Grid& grid, double delta,
+                                    BandStats& stats) {
   const auto& d = grid.dims();
   const std::array<int, 3> blocks{(d[0] + kBlock - 1) / kBlock, (d[1] + kBlock - 1) / kBlock,
                                   (d[2] + kBlock - 1) / kBlock};
   const std::int64_t block_count = std::int64_t{blocks[0]} * blocks[1] * blocks[2];
   const double half_diagonal = 0.5 * std::sqrt(3.0) * kBlock * grid.h();
-  std::vector<std::vector<std::int64_t>> per_block(static_cast<std::size_t>(block_count));
+  std::vector<std::vector<ScannedVoxel>> per_block(static_cast<std::size_t>(block_count));
   std::vector<char> visited(static_cast<std::size_t>(block_count), 0);
   tbb::parallel_for(std::int64_t{0}, block_count, [&](std::int64_t b) {
     const Coord origin{static_cast<int>(b % blocks[0]) * kBlock,
@@ -73,26 +100,26 @@ std::vector<std::int64_t> scan_band_keys(const Surface& surface, const Grid& gri
     visited[static_cast<std::size_t>(b)] = 1;
     scan_block(surface, grid, origin, delta, per_block[static_cast<std::size_t>(b)]);
   });
-  std::vector<std::int64_t> keys;
+  std::vector<ScannedVoxel> found;
   for (std::size_t b = 0; b < per_block.size(); ++b) {
     stats.candidate_blocks += visited[b];
-    keys.insert(keys.end(), per_block[b].begin(), per_block[b].end());
+    found.insert(found.end(), per_block[b].begin(), per_block[b].end());
   }
-  std::sort(keys.begin(), keys.end());
-  return keys;
+  std::sort(found.begin(), found.end(),
+            [](const ScannedVoxel& a, const ScannedVoxel& b) { return a.key < b.key; });
+  return found;
 }
 
-// Closest point of a ghost: exact where the surface gives one, else the paper's formula.
-Vec3 ghost_closest_point(const Surface& surface, const Grid& grid, const Coord& c, ClosestPointRule rule) {
+}  // namespace
+
+Vec3 closest_point_at(const Surface& surface, const Grid& grid, const Coord& c, ClosestPointRule rule) {
   if (rule == ClosestPointRule::exact)
     if (auto cp = surface.closest_point(grid.position(c))) return *cp;
   const LevelSetSample s = sample_level_set(surface, grid, c);
   const double g2 = s.gradient.squaredNorm();
-  if (!(g2 > 0.0)) throw InputError("the distance function has no gradient at a ghost point");
+  if (!(g2 > 0.0)) throw InputError("the distance function has no gradient at a band or ghost point");
   return grid.position(c) - s.gradient * (s.psi / g2);
 }
-
-}  // namespace
 
 std::int64_t NarrowBand::find(const Coord& c) const {
   if (!grid_.contains(c)) return -1;
@@ -101,14 +128,37 @@ std::int64_t NarrowBand::find(const Coord& c) const {
   return (it != keys_.end() && *it == key) ? it - keys_.begin() : -1;
 }
 
+namespace {
+
+// Small bands (coarse multigrid levels) run as one task rather than paying the scheduler per ghost.
+constexpr std::size_t kGhostGrain = 1024;
+
+template <class GhostOf>
+void fill_ghost_range(const std::vector<GhostStencil>& stencils, std::size_t n, std::size_t count,
+                      const GhostOf& ghost_of, std::span<double> extended) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kGhostGrain),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                        const std::size_t g = ghost_of(i);
+                        const GhostStencil& s = stencils[g];
+                        double v = 0.0;
+                        for (int c = 0; c < 8; ++c) v += s.weight[c] * extended[s.corner[c]];
+                        extended[n + g] = v;
+                      }
+                    });
+}
+
+}  // namespace
+
 void NarrowBand::fill_ghosts(std::span<double> extended) const {
-  const std::size_t n = voxels_.size();
-  tbb::parallel_for(std::size_t{0}, stencils_.size(), [&](std::size_t g) {
-    const GhostStencil& s = stencils_[g];
-    double v = 0.0;
-    for (int c = 0; c < 8; ++c) v += s.weight[c] * extended[s.corner[c]];
-    extended[n + g] = v;
-  });
+  fill_ghost_range(
+      stencils_, voxels_.size(), stencils_.size(), [](std::size_t i) { return i; }, extended);
+}
+
+void NarrowBand::fill_ghosts(std::span<double> extended, std::span<const std::uint32_t> ghosts) const {
+  fill_ghost_range(
+      stencils_, voxels_.size(), ghosts.size(), [&](std::size_t i) { return std::size_t{ghosts[i]}; },
+      extended);
 }
 
 std::size_t NarrowBand::memory_bytes() const {
@@ -120,7 +170,9 @@ std::size_t NarrowBand::memory_bytes() const {
 NarrowBand build_band(const Surface& surface, const Grid& grid, const BandOptions& options) {
   NarrowBand band(grid);
   const double delta = options.delta_in_h * grid.h();
-  std::vector<std::int64_t> keys = scan_band_keys(surface, grid, delta, band.stats_);
+  const std::vector<ScannedVoxel> scanned = scan_band(surface, grid, delta, band.stats_);
+  std::vector<std::int64_t> keys(scanned.size());
+  for (std::size_t v = 0; v < scanned.size(); ++v) keys[v] = scanned[v].key;
   if (keys.empty())
     throw InputError(
         "the narrow band is empty: the surface does not cross the grid; check its size and position");
@@ -153,7 +205,7 @@ NarrowBand build_band(const Surface& surface, const Grid& grid, const BandOption
     std::vector<double> offsets(ghost_keys.size(), 0.0);
     tbb::parallel_for(std::size_t{0}, ghost_keys.size(), [&](std::size_t g) {
       const Coord c = band.ghosts_[g];
-      const Vec3 cp = ghost_closest_point(surface, grid, c, options.closest_point);
+      const Vec3 cp = closest_point_at(surface, grid, c, options.closest_point);
       offsets[g] = (cp - grid.position(c)).norm() / grid.h();
       const Vec3 q = grid.to_index_space(cp);
       const Coord base{static_cast<int>(std::floor(q.x())), static_cast<int>(std::floor(q.y())),
@@ -212,7 +264,12 @@ NarrowBand build_band(const Surface& surface, const Grid& grid, const BandOption
 
   band.distance_.resize(band.voxels_.size());
   tbb::parallel_for(std::size_t{0}, band.voxels_.size(), [&](std::size_t v) {
-    band.distance_[v] = surface.distance(grid.position(band.voxels_[v]));
+    const std::int64_t key = band.keys_[v];
+    const auto it = std::lower_bound(scanned.begin(), scanned.end(), key,
+                                     [](const ScannedVoxel& a, std::int64_t k) { return a.key < k; });
+    // Voxels added by the closure were not scanned into the band: query them.
+    band.distance_[v] =
+        (it != scanned.end() && it->key == key) ? it->psi : surface.distance(grid.position(band.voxels_[v]));
   });
   return band;
 }

@@ -64,6 +64,8 @@ class NarrowBand {
 
   // Writes the ghost entries of an extended array from its band entries (closest-point extension).
   void fill_ghosts(std::span<double> extended) const;
+  // The same for the listed ghosts only (ghost indices, 0-based among the ghosts).
+  void fill_ghosts(std::span<double> extended, std::span<const std::uint32_t> ghosts) const;
 
   // Approximate heap bytes held by the band arrays.
   std::size_t memory_bytes() const;
@@ -80,6 +82,10 @@ class NarrowBand {
   std::vector<GhostStencil> stencils_;
   BandStats stats_;
 };
+
+// Closest point on `surface` of grid point c: exact where the rule and the surface allow, else the
+// paper's formula cp = x - grad_h psi / |grad_h psi|^2 psi.
+Vec3 closest_point_at(const Surface& surface, const Grid& grid, const Coord& c, ClosestPointRule rule);
 
 // Builds the band of `surface` on `grid`. Throws InputError if the band would touch the grid's edge
 // or is empty.
