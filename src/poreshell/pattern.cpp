@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
+#include <limits>
 
 namespace poreshell {
 
@@ -30,6 +32,43 @@ std::vector<std::int32_t> label_spots(const NarrowBand& band, std::span<const do
   return label;
 }
 
+namespace {
+
+double mean_of(const std::vector<double>& x) {
+  double sum = 0.0;
+  for (double v : x) sum += v;
+  return x.empty() ? 0.0 : sum / static_cast<double>(x.size());
+}
+
+double cv_of(const std::vector<double>& x) {
+  const double m = mean_of(x);
+  if (x.size() < 2 || m == 0.0) return 0.0;
+  double var = 0.0;
+  for (double v : x) var += (v - m) * (v - m);
+  return std::sqrt(var / static_cast<double>(x.size())) / m;
+}
+
+// Nearest-neighbour distance of each point: points sorted along x, each scans outwards both ways
+// and stops where the x gap alone exceeds its best distance (about n sqrt(n) on a surface).
+std::vector<double> nearest_neighbour_distances(std::vector<Vec3> points) {
+  std::sort(points.begin(), points.end(), [](const Vec3& a, const Vec3& b) { return a.x() < b.x(); });
+  const auto n = static_cast<std::ptrdiff_t>(points.size());
+  std::vector<double> best(points.size(), std::numeric_limits<double>::infinity());
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    double& b = best[static_cast<std::size_t>(i)];
+    const Vec3& p = points[static_cast<std::size_t>(i)];
+    for (std::ptrdiff_t step : {-1, 1})
+      for (std::ptrdiff_t j = i + step; j >= 0 && j < n; j += step) {
+        const Vec3& q = points[static_cast<std::size_t>(j)];
+        if (std::abs(q.x() - p.x()) >= b) break;
+        b = std::min(b, (q - p).norm());
+      }
+  }
+  return best;
+}
+
+}  // namespace
+
 SpotStats spot_statistics(const NarrowBand& band, std::span<const double> phi, double level) {
   const std::vector<std::int32_t> label = label_spots(band, phi, level);
   SpotStats s;
@@ -51,6 +90,19 @@ SpotStats spot_statistics(const NarrowBand& band, std::span<const double> phi, d
   s.mean_size = sum / static_cast<double>(s.count);
   const double var = std::max(0.0, sum2 / static_cast<double>(s.count) - s.mean_size * s.mean_size);
   s.size_cv = std::sqrt(var) / s.mean_size;
+
+  std::vector<Vec3> centroids(s.sizes.size(), Vec3::Zero());
+  for (std::size_t v = 0; v < label.size(); ++v)
+    if (label[v] >= 0) {
+      const Coord c = band.voxels()[v];
+      centroids[static_cast<std::size_t>(label[v])] += Vec3(c.i, c.j, c.k);
+    }
+  for (std::size_t l = 0; l < centroids.size(); ++l) centroids[l] /= static_cast<double>(s.sizes[l]);
+  if (centroids.size() >= 2) {
+    const std::vector<double> nearest = nearest_neighbour_distances(std::move(centroids));
+    s.spacing_mean = mean_of(nearest);
+    s.spacing_cv = cv_of(nearest);
+  }
   return s;
 }
 

@@ -16,6 +16,9 @@ struct SpotStats {
   double mean_size = 0.0;
   double size_cv = 0.0;        // standard deviation / mean of the sizes
   double area_fraction = 0.0;  // share of band voxels inside spots
+  // Distance from each spot's centroid to the nearest other centroid (grid units): mean and CV.
+  double spacing_mean = 0.0;
+  double spacing_cv = 0.0;
 };
 
 // Component label per band voxel (-1 outside every spot).

@@ -1,5 +1,6 @@
 #include "poreshell/time_stepping.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -14,6 +15,11 @@ double rms_difference(std::span<const double> a, std::span<const double> b) {
     return d * d;
   });
   return std::sqrt(sum / static_cast<double>(a.size()));
+}
+
+bool uniform_state_unstable(double alpha, double epsilon, double phi_bar) {
+  const double a = 1.0 - 3.0 * phi_bar * phi_bar;
+  return a > 0.0 && a * a > 4.0 * alpha * epsilon * epsilon;
 }
 
 RunResult run_to_steady_state(TimeStepper& stepper, std::vector<double>& phi, const EnergyFunctional* energy,
@@ -35,6 +41,13 @@ RunResult run_to_steady_state(TimeStepper& stepper, std::vector<double>& phi, co
     result.inner_iterations += progress.inner.inner_iterations;
     result.inner_converged = result.inner_converged && progress.inner.converged;
     result.reached_tolerance = progress.ec < options.tolerance;
+    if (result.reached_tolerance && options.min_spread > 0.0) {
+      const auto [lo, hi] = std::minmax_element(phi.begin(), phi.end());
+      if (*hi - *lo < options.min_spread) {
+        result.reached_tolerance = false;
+        ++result.quiet_steps_passed;
+      }
+    }
     const bool last = result.reached_tolerance || step == options.max_steps;
     progress.energy = std::numeric_limits<double>::quiet_NaN();
     if (energy && (last || (options.energy_every > 0 && step % options.energy_every == 0))) {

@@ -1,6 +1,6 @@
 #pragma once
 // Runs a time stepper until the consecutive change e_c = ||phi^{n+1} - phi^n||_2 drops below tol
-// (section 3), with e_c the root mean square over the band voxels.
+// (section 3), with e_c the root mean square over the band voxels, once the phases have separated.
 
 #include <functional>
 #include <limits>
@@ -23,6 +23,10 @@ struct RunOptions {
   int max_steps = 2000;
   double tolerance = 1e-3;
   int energy_every = 0;  // evaluate the energy every k steps (0: only at the start and the end)
+  // Do not stop before the phases have separated (max phi - min phi >= min_spread). Where the uniform
+  // state is unstable, the pattern grows slowly out of the decayed noise, and e_c can dip below the
+  // tolerance in that quiet phase; stopping there returns no pattern at all. 0: off.
+  double min_spread = 0.0;
   std::function<void(const StepProgress&)> on_step;
 };
 
@@ -30,12 +34,17 @@ struct RunResult {
   int steps = 0;
   double final_ec = 0.0;
   bool reached_tolerance = false;
+  int quiet_steps_passed = 0;   // steps with e_c < tol that did not stop the run (phases not separated)
   bool inner_converged = true;  // every step reached its inner tolerance
   long long inner_iterations = 0;
   double energy_first = std::numeric_limits<double>::quiet_NaN();  // NaN when no energy was evaluated
   double energy_last = std::numeric_limits<double>::quiet_NaN();
   std::vector<std::pair<int, double>> energy_trace;  // (step, energy) where evaluated
 };
+
+// Whether the uniform state phi_bar is linearly unstable, so that a pattern must form:
+// (1 - 3 phi_bar^2)^2 > 4 alpha eps^2.
+bool uniform_state_unstable(double alpha, double epsilon, double phi_bar);
 
 // Root mean square of a - b.
 double rms_difference(std::span<const double> a, std::span<const double> b);

@@ -1,0 +1,242 @@
+#include "poreshell/band_multigrid.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "poreshell/error.hpp"
+#include "poreshell/parallel.hpp"
+
+namespace poreshell {
+namespace {
+
+// A level with z h^2 >= this is diagonally dominant enough for smoothing alone (Jacobi contraction <= 6/14).
+constexpr double kCoarseEnough = 8.0;
+constexpr std::size_t kSmallestBand = 1500;
+constexpr int kMaxLevels = 8;
+constexpr int kSmoothingSweeps = 2;  // before and after the coarse correction
+constexpr int kCoarsestSweeps = 10;
+constexpr int kPadCells = 6;  // coarse grids: band (1.9 cells) + ghosts + margin
+
+// Coarse levels hold a few thousand voxels: one task each, not a scheduler round trip per loop.
+constexpr std::size_t kGrain = 2048;
+
+template <class Body>
+void for_each_index(std::size_t n, const Body& body) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kGrain),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t i = r.begin(); i != r.end(); ++i) body(i);
+                    });
+}
+
+std::vector<Vec3> voxel_closest_points(const NarrowBand& band, const Surface& surface) {
+  std::vector<Vec3> cps(band.size());
+  tbb::parallel_for(std::size_t{0}, band.size(), [&](std::size_t v) {
+    cps[v] = closest_point_at(surface, band.grid(), band.voxels()[v], ClosestPointRule::exact);
+  });
+  return cps;
+}
+
+// Trilinear interpolation stencil of `band` at p. Corners that are not band voxels (rare: the band rule
+// uses the discrete gradient) are dropped and the weights renormalised.
+TransferStencil interpolation_stencil(const NarrowBand& band, const Vec3& p) {
+  const Vec3 q = band.grid().to_index_space(p);
+  const Coord base{static_cast<int>(std::floor(q.x())), static_cast<int>(std::floor(q.y())),
+                   static_cast<int>(std::floor(q.z()))};
+  const Vec3 t = q - Vec3(base.i, base.j, base.k);
+  std::array<double, 8> w{};
+  double sum = 0.0;
+  TransferStencil s;
+  for (int c = 0; c < 8; ++c) {
+    const int di = c & 1, dj = (c >> 1) & 1, dk = (c >> 2) & 1;
+    const std::int64_t idx = band.find({base.i + di, base.j + dj, base.k + dk});
+    if (idx < 0) continue;
+    s.corner[c] = static_cast<std::int32_t>(idx);
+    w[c] = (di ? t.x() : 1 - t.x()) * (dj ? t.y() : 1 - t.y()) * (dk ? t.z() : 1 - t.z());
+    sum += w[c];
+  }
+  if (!(sum > 1e-6)) throw std::runtime_error("multigrid: a closest point has no band voxel around it");
+  for (int c = 0; c < 8; ++c) s.weight[c] = static_cast<float>(w[c] / sum);
+  return s;
+}
+
+double interpolate(const TransferStencil& s, const std::vector<double>& values) {
+  double v = 0.0;
+  for (int c = 0; c < 8; ++c) v += static_cast<double>(s.weight[c]) * values[s.corner[c]];
+  return v;
+}
+
+// The grid of spacing h that holds the surface's band with kPadCells of margin.
+Grid covering_grid(const Surface& surface, double h) {
+  const Box box = surface.bounds();
+  const Vec3 origin = box.min - Vec3::Constant(kPadCells * h);
+  std::array<int, 3> dims{};
+  for (int a = 0; a < 3; ++a)
+    dims[a] = static_cast<int>(std::ceil((box.max[a] - box.min[a]) / h)) + 2 * kPadCells + 1;
+  return Grid(origin, h, dims);
+}
+
+}  // namespace
+
+BandMultigrid::BandMultigrid(const NarrowBand& fine, const Surface& surface, double z_min) {
+  if (!(z_min > 0.0)) throw std::invalid_argument("multigrid: the shift must be positive");
+  levels_.emplace_back();
+  levels_.back().band = &fine;
+  std::vector<Vec3> finer_cps = voxel_closest_points(fine, surface);
+  while (static_cast<int>(levels_.size()) < kMaxLevels) {
+    const NarrowBand& finer = *levels_.back().band;
+    const double h = finer.grid().h();
+    if (z_min * h * h >= kCoarseEnough || finer.size() < kSmallestBand) break;
+    auto coarse = std::make_unique<NarrowBand>(build_band(surface, covering_grid(surface, 2.0 * h)));
+    std::vector<Vec3> cps = voxel_closest_points(*coarse, surface);
+    Level level;
+    level.from_finer.resize(coarse->size());
+    tbb::parallel_for(std::size_t{0}, coarse->size(),
+                      [&](std::size_t v) { level.from_finer[v] = interpolation_stencil(finer, cps[v]); });
+    Level& finer_level = levels_.back();
+    finer_level.to_coarser.resize(finer.size());
+    tbb::parallel_for(std::size_t{0}, finer.size(), [&](std::size_t v) {
+      finer_level.to_coarser[v] = interpolation_stencil(*coarse, finer_cps[v]);
+    });
+    level.owned = std::move(coarse);
+    level.band = level.owned.get();
+    levels_.push_back(std::move(level));
+    finer_cps = std::move(cps);
+  }
+
+  for (Level& level : levels_) {
+    const NarrowBand& band = *level.band;
+    const std::size_t n = band.size();
+    level.inverse_diagonal_base.resize(n);
+    const auto stencils = band.stencils();
+    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t v) {
+      // A ghost whose stencil includes v itself puts weight back on the diagonal.
+      double self = 0.0;
+      for (int k = 0; k < NarrowBand::kNeighbors; ++k) {
+        const auto nb = static_cast<std::size_t>(band.neighbor(v, k));
+        if (nb < n) continue;
+        const GhostStencil& s = stencils[nb - n];
+        for (int c = 0; c < 8; ++c)
+          if (static_cast<std::size_t>(s.corner[c]) == v) self += s.weight[c];
+      }
+      level.inverse_diagonal_base[v] = 6.0 - self;
+    });
+    for (std::size_t v = 0; v < n; ++v) {
+      const Coord c = band.voxels()[v];
+      level.colours[(c.i + c.j + c.k) & 1].push_back(static_cast<std::uint32_t>(v));
+    }
+    for (std::size_t g = 0; g < band.ghost_count(); ++g) {
+      const Coord c = band.ghosts()[g];
+      level.ghost_colours[(c.i + c.j + c.k) & 1].push_back(static_cast<std::uint32_t>(g));
+    }
+    level.x.assign(band.extended_size(), 0.0);
+    level.b.assign(n, 0.0);
+    level.r.assign(band.extended_size(), 0.0);
+    level.averaged.assign(n, 0.0);
+  }
+}
+
+std::size_t BandMultigrid::memory_bytes() const {
+  std::size_t bytes = 0;
+  for (const Level& l : levels_) {
+    if (l.owned) bytes += l.owned->memory_bytes();
+    bytes += (l.inverse_diagonal_base.capacity() + l.x.capacity() +
+              (l.colours[0].capacity() + l.colours[1].capacity() + l.ghost_colours[0].capacity() +
+               l.ghost_colours[1].capacity()) /
+                  2 +
+              l.b.capacity() + l.r.capacity() + l.averaged.capacity()) *
+                 sizeof(double) +
+             (l.from_finer.capacity() + l.to_coarser.capacity()) * sizeof(TransferStencil);
+  }
+  return bytes;
+}
+
+std::size_t BandMultigrid::last_level_for(double z) const {
+  std::size_t l = 0;
+  while (l + 1 < levels_.size()) {
+    const double h = levels_[l].band->grid().h();
+    if (z * h * h >= kCoarseEnough) break;
+    ++l;
+  }
+  return l;
+}
+
+double BandMultigrid::residual(Level& level, double z) {
+  const NarrowBand& band = *level.band;
+  band.fill_ghosts(level.x);
+  const double inv_h2 = 1.0 / (band.grid().h() * band.grid().h());
+  return parallel_max(band.size(), [&](std::size_t v) {
+    double sum = 0.0;
+    for (int k = 0; k < NarrowBand::kNeighbors; ++k) sum += level.x[band.neighbor(v, k)];
+    level.r[v] = level.b[v] - (z * level.x[v] - (sum - 6.0 * level.x[v]) * inv_h2);
+    return std::abs(level.r[v]);
+  });
+}
+
+void BandMultigrid::smooth(Level& level, double z, int sweeps) {
+  const NarrowBand& band = *level.band;
+  const double inv_h2 = 1.0 / (band.grid().h() * band.grid().h());
+  for (int s = 0; s < sweeps; ++s)
+    for (int colour = 0; colour < 2; ++colour) {
+      // A voxel's 6 neighbours have the other parity: only those ghosts need fresh values.
+      band.fill_ghosts(level.x, level.ghost_colours[1 - colour]);
+      const auto& set = level.colours[colour];
+      for_each_index(set.size(), [&](std::size_t i) {
+        const std::size_t v = set[i];
+        double sum = 0.0;
+        for (int k = 0; k < NarrowBand::kNeighbors; ++k) sum += level.x[band.neighbor(v, k)];
+        const double r = level.b[v] - (z * level.x[v] - (sum - 6.0 * level.x[v]) * inv_h2);
+        level.x[v] += r / (z + level.inverse_diagonal_base[v] * inv_h2);
+      });
+    }
+}
+
+void BandMultigrid::v_cycle(std::size_t l, std::size_t last, double z) {
+  Level& fine = levels_[l];
+  if (l == last) {
+    smooth(fine, z, l == 0 ? kSmoothingSweeps : kCoarsestSweeps);
+    return;
+  }
+  smooth(fine, z, kSmoothingSweeps);
+  residual(fine, z);
+  const NarrowBand& band = *fine.band;
+  band.fill_ghosts(fine.r);
+  for_each_index(band.size(), [&](std::size_t v) {
+    double sum = 0.0;
+    for (int k = 0; k < NarrowBand::kNeighbors; ++k) sum += fine.r[band.neighbor(v, k)];
+    fine.averaged[v] = 0.5 * fine.r[v] + sum / 12.0;
+  });
+  Level& coarse = levels_[l + 1];
+  for_each_index(coarse.band->size(),
+                 [&](std::size_t v) { coarse.b[v] = interpolate(coarse.from_finer[v], fine.averaged); });
+  std::fill(coarse.x.begin(), coarse.x.end(), 0.0);
+  v_cycle(l + 1, last, z);
+  for_each_index(fine.band->size(),
+                 [&](std::size_t v) { fine.x[v] += interpolate(fine.to_coarser[v], coarse.x); });
+  smooth(fine, z, kSmoothingSweeps);
+}
+
+MultigridSolveReport BandMultigrid::solve(double z, std::span<const double> b, std::span<double> x,
+                                          double residual_tolerance, int max_cycles) {
+  Level& top = levels_.front();
+  const std::size_t n = top.band->size();
+  if (b.size() != n || x.size() != n) throw std::invalid_argument("multigrid: one value per band voxel");
+  std::copy(b.begin(), b.end(), top.b.begin());
+  std::copy(x.begin(), x.end(), top.x.begin());
+  const std::size_t last = last_level_for(z);
+  MultigridSolveReport report;
+  for (;;) {
+    report.residual = residual(top, z);
+    report.converged = report.residual <= residual_tolerance;
+    if (report.converged || report.cycles >= max_cycles || !std::isfinite(report.residual)) break;
+    v_cycle(0, last, z);
+    ++report.cycles;
+  }
+  std::copy(top.x.begin(), top.x.begin() + static_cast<std::ptrdiff_t>(n), x.begin());
+  return report;
+}
+
+}  // namespace poreshell

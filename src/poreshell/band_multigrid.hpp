@@ -1,0 +1,73 @@
+#pragma once
+// Geometric multigrid for the shifted closest-point Laplacian on the band,
+//   (z - Delta_h) x = b,  z > 0,  ghosts of x by closest-point interpolation (eliminated),
+// the building block of the fast solver (docs/solver.md).
+//
+// Coarse levels are the bands of the same surface on grids of spacing 2h, 4h, ... A band value stands
+// for the value at its closest point on the surface, so values move between levels through closest
+// points: restriction interpolates the finer residual at the coarse voxel's closest point, prolongation
+// the coarse correction at the finer voxel's closest point (closest-point multigrid). The smoother is
+// red-black Gauss-Seidel. The operator's rows sum to z with non-positive off-diagonals (trilinear weights are
+// non-negative), so |x - x*|_inf <= |b - (z - L) x|_inf / z: the stopping rule bounds the error itself.
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "poreshell/band.hpp"
+#include "poreshell/surface.hpp"
+
+namespace poreshell {
+
+// Trilinear interpolation from band values: 8 corners and weights (float: only the transfer operators
+// use it, and they are corrections).
+struct TransferStencil {
+  std::array<std::int32_t, 8> corner{};
+  std::array<float, 8> weight{};
+};
+
+struct MultigridSolveReport {
+  int cycles = 0;
+  double residual = 0.0;  // max-norm residual at the end
+  bool converged = false;
+};
+
+class BandMultigrid {
+ public:
+  // Builds coarse bands until a level's z_min h^2 >= 2 (Jacobi alone converges fast there) or the band
+  // gets small. z_min: the smallest shift the caller will solve with.
+  BandMultigrid(const NarrowBand& fine, const Surface& surface, double z_min);
+
+  // Iterates V-cycles on x (initial guess in, solution out; band values only) until
+  // |b - (z - L) x|_inf <= residual_tolerance or max_cycles.
+  MultigridSolveReport solve(double z, std::span<const double> b, std::span<double> x,
+                             double residual_tolerance, int max_cycles);
+
+  int level_count() const { return static_cast<int>(levels_.size()); }
+  std::size_t voxels_on_level(int l) const { return levels_[static_cast<std::size_t>(l)].band->size(); }
+  // Heap bytes held beyond the fine band itself (coarse bands, transfers, work arrays).
+  std::size_t memory_bytes() const;
+
+ private:
+  struct Level {
+    std::unique_ptr<NarrowBand> owned;  // coarse levels own their band; level 0 borrows the fine one
+    const NarrowBand* band = nullptr;
+    std::vector<double> inverse_diagonal_base;    // 6 - self weight: h^2 (diagonal - z)
+    std::vector<std::uint32_t> colours[2];        // red-black sets, (i + j + k) even / odd
+    std::vector<std::uint32_t> ghost_colours[2];  // ghosts by the same parity: colour c reads 1 - c
+    std::vector<TransferStencil> from_finer;      // restriction: into the finer band at this voxel's cp
+    std::vector<TransferStencil> to_coarser;      // prolongation: into the coarser band at this voxel's cp
+    std::vector<double> x, r;                     // extended (band + ghosts)
+    std::vector<double> b, averaged;              // band
+  };
+
+  void smooth(Level& level, double z, int sweeps);  // red-black Gauss-Seidel
+  double residual(Level& level, double z);          // fills level.r, returns its max norm
+  void v_cycle(std::size_t l, std::size_t last, double z);
+  std::size_t last_level_for(double z) const;
+
+  std::vector<Level> levels_;
+};
+
+}  // namespace poreshell

@@ -1,0 +1,134 @@
+#include "poreshell/fast_solver.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "poreshell/error.hpp"
+#include "poreshell/operators.hpp"
+#include "poreshell/parallel.hpp"
+
+namespace poreshell {
+namespace {
+
+// Largest S the multigrid hierarchy is built for (S grows with max phi^2; |phi| <= 1.3 is generous).
+constexpr double kLargestStabilisation = 2.0;
+constexpr int kMaxRepeats = 4;
+
+struct Shifts {
+  double z1, z2;
+};
+
+// The smallest S with real roots z1, z2 of eps^2 z^2 - S z + (1/dt + alpha) = 0.
+double smallest_real_stabilisation(const ModelParameters& m, double dt) {
+  return 1.0001 * 2.0 * std::sqrt(m.epsilon * m.epsilon * (1.0 / dt + m.alpha));
+}
+
+Shifts shifts_for(const ModelParameters& m, double dt, double s) {
+  const double eps2 = m.epsilon * m.epsilon;
+  const double c = 1.0 / dt + m.alpha;
+  const double root = std::sqrt(std::max(0.0, s * s - 4.0 * eps2 * c));
+  return {2.0 * c / (s + root), (s + root) / (2.0 * eps2)};  // z1 without cancellation
+}
+
+// The stabilisation that covers values up to |phi|^2 = max_square: S >= (3 max_square - 1) / 2.
+double required_stabilisation(double max_square) {
+  return 0.5 * (3.0 * max_square - 1.0);
+}
+
+double max_square(std::span<const double> phi) {
+  return parallel_max(phi.size(), [&](std::size_t v) { return phi[v] * phi[v]; });
+}
+
+}  // namespace
+
+FastSolver::FastSolver(const NarrowBand& band, const Surface& surface, const ModelParameters& model,
+                       double dt, FastOptions options)
+    : band_(band),
+      model_(model),
+      dt_(dt),
+      options_(options),
+      multigrid_(
+          (validate(model, dt), band), surface,
+          shifts_for(model, dt, std::max(kLargestStabilisation, smallest_real_stabilisation(model, dt))).z1) {
+  if (!(options_.tolerance > 0.0)) throw InputError("the fast solver's tolerance must be positive");
+  if (!(options_.min_stabilisation >= 0.0)) throw InputError("the stabilisation floor must be >= 0");
+  extended_.assign(band.extended_size(), 0.0);
+  rhs_.assign(band.size(), 0.0);
+  y_.assign(band.size(), 0.0);
+  set_stabilisation(1.0);
+}
+
+void FastSolver::set_stabilisation(double s) {
+  s_ = std::max({s, options_.min_stabilisation, smallest_real_stabilisation(model_, dt_)});
+  const Shifts z = shifts_for(model_, dt_, s_);
+  z1_ = z.z1;
+  z2_ = z.z2;
+}
+
+std::size_t FastSolver::memory_bytes() const {
+  return multigrid_.memory_bytes() +
+         (extended_.capacity() + rhs_.capacity() + y_.capacity() + old_.capacity() + previous_.capacity()) *
+             sizeof(double);
+}
+
+StepReport FastSolver::step(std::vector<double>& phi) {
+  if (phi.size() != band_.size()) throw std::invalid_argument("phi must have one value per band voxel");
+  if (steps_ == 0) previous_ = phi;  // no history yet: the guess is phi^n itself
+  old_ = phi;
+  const double old_square = max_square(old_);
+  set_stabilisation(required_stabilisation(old_square));
+  StepReport report;
+  for (int attempt = 0;; ++attempt) {
+    const StepReport r = solve_step(old_, phi);
+    report.inner_iterations += r.inner_iterations;
+    report.residual = r.residual;
+    report.converged = r.converged;
+    const double needed = required_stabilisation(std::max(old_square, max_square(phi)));
+    if (needed <= s_ || attempt == kMaxRepeats || !std::isfinite(needed)) break;
+    ++repeated_;
+    set_stabilisation(1.05 * needed);
+  }
+  std::swap(previous_, old_);  // previous_ = phi^n for the next step's guess
+  ++steps_;
+  return report;
+}
+
+StepReport FastSolver::solve_step(std::span<const double> phi_old, std::vector<double>& phi) {
+  const std::size_t n = band_.size();
+  const double eps2 = model_.epsilon * model_.epsilon;
+
+  // rhs = (phi^n + alpha dt phi_bar + dt L((phi^n)^3 - (1 + S) phi^n)) / (eps^2 dt)
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t v) {
+    const double p = phi_old[v];
+    extended_[v] = p * p * p - (1.0 + s_) * p;
+  });
+  band_.fill_ghosts(extended_);
+  apply_laplacian(band_, extended_, rhs_);
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t v) {
+    rhs_[v] = (phi_old[v] + dt_ * model_.alpha * model_.phi_bar + dt_ * rhs_[v]) / (eps2 * dt_);
+  });
+
+  // Initial guesses: phi = 2 phi^n - phi^{n-1} (late in a run the pattern moves slowly, so this is
+  // nearly the solution) and y = (z2 - L) phi.
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t v) { phi[v] = 2.0 * phi_old[v] - previous_[v]; });
+  std::copy(phi.begin(), phi.end(), extended_.begin());
+  band_.fill_ghosts(extended_);
+  apply_laplacian(band_, extended_, y_);
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t v) { y_[v] = z2_ * phi[v] - y_[v]; });
+
+  // Error bound in phi (max norm): |r1| / (z1 z2) + |r2| / z2 <= tolerance.
+  const MultigridSolveReport first =
+      multigrid_.solve(z1_, rhs_, y_, 0.5 * options_.tolerance * z1_ * z2_, options_.max_cycles);
+  const MultigridSolveReport second =
+      multigrid_.solve(z2_, y_, phi, 0.5 * options_.tolerance * z2_, options_.max_cycles);
+  StepReport report;
+  report.inner_iterations = first.cycles + second.cycles;
+  report.residual = first.residual / (z1_ * z2_) + second.residual / z2_;
+  report.converged = first.converged && second.converged;
+  return report;
+}
+
+}  // namespace poreshell
