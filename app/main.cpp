@@ -66,7 +66,7 @@ void print_progress(const poreshell::StepProgress& p, std::chrono::steady_clock:
   const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::string line = fmt::format("step {:5d}  e_c {:.3e}", p.step, p.ec);
   if (!std::isnan(p.energy)) line += fmt::format("  energy {:.6e}", p.energy);
-  line += fmt::format("  inner {} sweeps{}  {:.1f} s", p.inner.inner_iterations,
+  line += fmt::format("  inner {} iterations{}  {:.1f} s", p.inner.inner_iterations,
                       p.inner.converged ? "" : " (not converged)", t);
   fmt::print(stderr, "{}\n", line);
 }
@@ -79,13 +79,18 @@ void print_summary(const poreshell::PipelineConfig& c, const poreshell::Pipeline
     fmt::print("  input    {} vertices, {} triangles ({} degenerate dropped), {} boundary edges, {:.2f} s\n",
                r.input.vertices, r.input.triangles, r.input.dropped_degenerate, r.input.boundary_edges,
                r.seconds_input);
-  fmt::print("  grid     {} x {} x {}, h = {:.6g} ({:.6g} in the input's units)\n", d[0], d[1], d[2], r.h,
-             r.h / r.input.scale);
+  if (r.input.kind == "points" && r.input.point_route == "paper")
+    fmt::print("  input    {} points, route paper: {} after densification, {} steps of eq. (3.3), {:.2f} s\n",
+               r.input.vertices, r.input.densified_points, r.input.segmentation_iterations, r.seconds_input);
+  else if (r.input.kind == "points")
+    fmt::print("  input    {} points, route direct (splats), {:.2f} s\n", r.input.vertices, r.seconds_input);
+  fmt::print("  grid     {} x {} x {}, h = {:.6g} ({:.6g} mm; input coordinates in {}, output in mm)\n", d[0],
+             d[1], d[2], r.h, r.h / r.input.scale * r.input.millimetres_per_unit, r.input.units);
   fmt::print("  band     {} voxels, {} ghosts, {:.1f} MiB\n", r.band_voxels, r.ghosts,
              static_cast<double>(r.band_bytes) / (1024.0 * 1024.0));
   fmt::print("  model    alpha {:g}, epsilon {:.6g} (m = {:g}), phi-bar {:g}, dt {:.6g} ({:g} h)\n",
              r.model.alpha, r.model.epsilon, c.epsilon_m, r.model.phi_bar, r.dt, c.dt_in_h);
-  fmt::print("  solver   {} ({} inner): {} steps, final e_c {:.3e} {} tol {:g} ({}), {} inner sweeps{}\n",
+  fmt::print("  solver   {} ({} inner): {} steps, final e_c {:.3e} {} tol {:g} ({}), {} inner iterations{}\n",
              r.solver_name, r.inner_iteration, r.run.steps, r.run.final_ec,
              r.run.reached_tolerance ? "<" : ">=", c.tolerance,
              yes_no(r.run.reached_tolerance, "reached", "NOT reached"), r.run.inner_iterations,
@@ -94,10 +99,16 @@ void print_summary(const poreshell::PipelineConfig& c, const poreshell::Pipeline
     fmt::print("  energy   not evaluated (--energy-every 0)\n");
   else
     fmt::print("  energy   first {:.6e}, final {:.6e}\n", r.run.energy_first, r.run.energy_last);
-  fmt::print("  pattern  {} spots at phi > 0, size CV {:.3f}, area fraction {:.3f}\n", r.spots.count,
-             r.spots.size_cv, r.spots.area_fraction);
+  fmt::print(
+      "  pattern  {} spots at phi > 0, size CV {:.3f}, spacing {:.2f} h (CV {:.3f}), area fraction {:.3f}\n",
+      r.spots.count, r.spots.size_cv, r.spots.spacing_mean, r.spots.spacing_cv, r.spots.area_fraction);
   fmt::print("  time     band {:.2f} s, solve {:.2f} s, mesh+write {:.2f} s, total {:.2f} s ({} threads)\n",
              r.seconds_band, r.seconds_solve, r.seconds_mesh, r.seconds_total, r.threads);
+  if (r.solid.mode == "shell")
+    fmt::print("  solid    shell, wall {:.4g} mm {}, meshed at {:.4g} mm ({} samples, {:.2f} s)\n",
+               r.solid.wall_mm, r.solid.offset, r.solid.spacing_mm, r.solid.samples, r.solid.seconds_sample);
+  else
+    fmt::print("  solid    narrow volume (Fig. 3b), {:.4g} mm thick (2 delta)\n", r.solid.wall_mm);
   for (const poreshell::MeshOutput& m : r.meshes) {
     const auto& t = m.topology;
     fmt::print(
@@ -127,20 +138,54 @@ int run(int argc, char** argv) {
                     ->check(CLI::IsMember({"sphere", "torus"}))
                     ->capture_default_str();
   std::string mesh;
-  app.add_option("--mesh", mesh,
-                 "triangle mesh FILE (STL, OBJ, PLY, OFF, 3MF; holes and open surfaces are fine), fitted to "
-                 "the unit grid as in section 3.4; output in the file's units")
+  auto* mesh_option =
+      app.add_option(
+             "--mesh", mesh,
+             "triangle mesh FILE (STL, OBJ, PLY, OFF, 3MF; holes and open surfaces are fine), fitted to "
+             "the unit grid as in section 3.4; coordinates in --units")
+          ->type_name("FILE")
+          ->excludes(shape);
+  std::string points;
+  app.add_option(
+         "--points", points,
+         "point cloud FILE (.xyz: x y z a line, extra columns ignored; .ply: its vertices), fitted to "
+         "the unit grid like --mesh")
       ->type_name("FILE")
-      ->excludes(shape);
+      ->excludes(shape)
+      ->excludes(mesh_option);
+  app.add_option("--point-route", config.point_route,
+                 "point clouds: direct (distance to discs fitted to the points, no PDE) or paper (densify, "
+                 "then the segmentation eq. 3.3; needs a closed surface); docs/point-clouds.md")
+      ->check(CLI::IsMember({"direct", "paper"}))
+      ->capture_default_str();
   app.add_option("--resolution", config.resolution,
                  "grid points N_x along the longest side, h = 1/(N_x - 1) (paper: 131, Fig. 5: 181)")
       ->type_name("N")
       ->check(number_above(0.0, false))
       ->capture_default_str();
   app.add_option("--voxel-size", config.voxel_size,
-                 "grid spacing h in the input's units; sets the resolution instead of --resolution")
-      ->type_name("H")
+                 "grid spacing h in mm; sets the resolution instead of --resolution")
+      ->type_name("MM")
       ->check(number_above(0.0, false));
+  app.add_option(
+         "--units", config.units,
+         "unit of the input's coordinates (shapes: of the unit cube); lengths on the command line and "
+         "all outputs are in mm")
+      ->check(CLI::IsMember({"m", "cm", "mm", "inch"}))
+      ->capture_default_str();
+  app.add_option("--mode", config.mode,
+                 "shell: wall of --wall mm, pores straight through it; narrow-volume: the paper's Fig. 3b "
+                 "(about 3.8 h thick)")
+      ->check(CLI::IsMember({"shell", "narrow-volume"}))
+      ->capture_default_str();
+  app.add_option("--wall", config.wall,
+                 "shell wall thickness in mm (default: the band's width 2 delta = 3.81 h)")
+      ->type_name("MM")
+      ->check(number_above(0.0, false));
+  app.add_option("--offset", config.offset,
+                 "where the shell wall lies: centered on the surface, inside or outside it")
+      ->check(CLI::IsMember({"centered", "inside", "outside"}))
+      ->capture_default_str();
   app.add_option("--alpha", config.alpha,
                  "nonlocal strength α in eq. (2.1) (paper: 1400 sphere and torus, 2200 bunny)")
       ->type_name("A")
@@ -188,7 +233,20 @@ int run(int argc, char** argv) {
                  "mean concentration φ̄ in eq. (2.1), sets the pore fraction (paper: -0.3)")
       ->type_name("F")
       ->capture_default_str();
-  app.add_option("--inner", inner, "inner relaxation of eqs. (2.3)-(2.4) per step (paper: jacobi)")
+  app.add_option("--solver", config.solver,
+                 "fast: stabilised scheme, band multigrid (docs/solver.md); reference: the paper's scheme")
+      ->check(CLI::IsMember({"fast", "reference"}))
+      ->capture_default_str();
+  app.add_option("--fast-tol", config.fast.tolerance, "fast solver: bound on the error of each step's solve")
+      ->type_name("T")
+      ->check(number_above(0.0, false))
+      ->capture_default_str();
+  app.add_option("--min-stabilisation", config.fast.min_stabilisation,
+                 "fast solver: floor on the stabilisation S (default: the energy-stability bound alone)")
+      ->type_name("S")
+      ->check(number_above(0.0, true))
+      ->capture_default_str();
+  app.add_option("--inner", inner, "reference solver: inner relaxation per step (paper: jacobi)")
       ->check(CLI::IsMember({"gauss-seidel", "jacobi"}))
       ->capture_default_str();
   app.add_option("--inner-tol", config.inner.tolerance,
@@ -199,7 +257,8 @@ int run(int argc, char** argv) {
   // Required, but checked after parsing: CLI11 reports a missing required option before an unknown one,
   // which would hide a misspelt flag behind "--output is required".
   app.add_option("-o,--output", output,
-                 "output binary STL (required); several --iso levels write OUT-isoC.stl each")
+                 "output mesh in mm (required); the extension picks the format: .stl (binary), .3mf, .obj, "
+                 ".ply (binary); several --iso levels write OUT-isoC.ext each")
       ->type_name("OUT.stl");
   app.add_option("--report", report, "write the run's JSON report here")->type_name("OUT.json");
   app.add_flag("-q,--quiet", quiet, "no per-step progress on stderr");
@@ -226,6 +285,7 @@ int run(int argc, char** argv) {
   config.inner.method = poreshell::parse_inner_iteration(inner);
   config.output = output;
   config.mesh = mesh;
+  config.points = points;
   check_writable_location(config.output, "the output");
   if (!report.empty()) check_writable_location(report, "the report");
 
@@ -255,6 +315,14 @@ int run(int argc, char** argv) {
         stderr,
         "poreshell: warning: some steps did not reach --inner-tol {:g}; the result may be inaccurate\n",
         config.inner.tolerance);
+  const poreshell::ModelParameters& m = result.model;
+  if (!poreshell::uniform_state_unstable(m.alpha, m.epsilon, m.phi_bar)) {
+    const double a = 1.0 - 3.0 * m.phi_bar * m.phi_bar;
+    fmt::print(stderr,
+               "poreshell: warning: no pattern can form: the uniform state is stable for alpha {:g}, epsilon "
+               "{:.4g}, phi-bar {:g} (needs 4 alpha eps^2 < (1 - 3 phi_bar^2)^2); use --alpha below {:.4g}\n",
+               m.alpha, m.epsilon, m.phi_bar, a > 0 ? a * a / (4 * m.epsilon * m.epsilon) : 0.0);
+  }
   return 0;
 }
 

@@ -105,9 +105,11 @@ std::uint32_t stl_triangle_count(const std::string& bytes) {
 TEST_F(Cli, HelpExitsZeroAndMentionsEveryOption) {
   const Outcome o = run("--help");
   EXPECT_EQ(o.exit_code, 0) << o.err;
-  for (const char* option : {"--shape", "--resolution", "--alpha", "--epsilon-m", "--dt-h", "--tol",
-                             "--max-steps", "--seed", "--iso", "--threads", "--phi-bar", "--inner",
-                             "--inner-tol", "--mesh", "-o", "--report", "--quiet", "--version"})
+  for (const char* option :
+       {"--shape",     "--resolution", "--alpha", "--epsilon-m", "--dt-h",    "--tol",
+        "--max-steps", "--seed",       "--iso",   "--threads",   "--phi-bar", "--inner",
+        "--inner-tol", "--mesh",       "-o",      "--report",    "--quiet",   "--version",
+        "--units",     "--mode",       "--wall",  "--offset",    "--points",  "--point-route"})
     EXPECT_NE(o.out.find(option), std::string::npos) << option << " missing from --help:\n" << o.out;
   EXPECT_TRUE(files_in_work().empty());
 }
@@ -163,6 +165,28 @@ TEST_F(Cli, MissingOrBadMeshFailsWithItsNameAndNoOutput) {
     EXPECT_NE(o.err.find(mesh), std::string::npos) << o.err;
     EXPECT_FALSE(fs::exists(work() / "X.stl") || fs::exists(work() / "X.json")) << mesh;
   }
+}
+
+TEST_F(Cli, MissingOrBadPointsFailWithTheirNameAndNoOutput) {
+  {
+    std::ofstream bad(work() / "bad.xyz");
+    bad << "0 0 0\n1 0 nan\n0 1 0\n";
+    std::ofstream(work() / "empty.xyz");
+  }
+  for (const char* points : {"missing.xyz", "bad.xyz", "empty.xyz"}) {
+    const Outcome o =
+        run(std::string("--points ") + points + " --resolution 33 -o X.stl --report X.json --quiet");
+    EXPECT_EQ(o.exit_code, 1) << points;
+    expect_one_error_line(o);
+    EXPECT_NE(o.err.find(points), std::string::npos) << o.err;
+    EXPECT_FALSE(fs::exists(work() / "X.stl") || fs::exists(work() / "X.json")) << points;
+  }
+  const Outcome route = run("--points bad.xyz --point-route magic -o X.stl");
+  EXPECT_EQ(route.exit_code, 2);
+  expect_one_error_line(route);
+  const Outcome both = run("--points bad.xyz --mesh bunny.obj -o X.stl");
+  EXPECT_EQ(both.exit_code, 2);
+  expect_one_error_line(both);
 }
 
 TEST_F(Cli, OutputInAMissingDirectoryFailsBeforeRunning) {
@@ -221,6 +245,40 @@ TEST_F(Cli, ThreadCountDoesNotChangeTheOutput) {
   ASSERT_FALSE(a.empty());
   EXPECT_TRUE(a == b) << "STL differs between --threads 1 and --threads 2";
   EXPECT_EQ(nlohmann::json::parse(read_file(work() / "one.json"))["threads"], 1);
+}
+
+TEST_F(Cli, OutputFormatFollowsTheExtensionAndUnknownOnesFailBeforeRunning) {
+  for (const char* name : {"X.3mf", "X.obj", "X.ply"}) {
+    const Outcome o = run(kSmallRun + " -o " + name);
+    ASSERT_EQ(o.exit_code, 0) << name << ": " << o.err;
+    EXPECT_GT(fs::file_size(work() / name), 1000u) << name;
+  }
+  const Outcome o = run("--resolution 131 -o X.vtk --report X.json");  // fails before the solve
+  EXPECT_EQ(o.exit_code, 1);
+  expect_one_error_line(o);
+  EXPECT_NE(o.err.find(".stl, .3mf, .obj, .ply"), std::string::npos) << o.err;
+  EXPECT_FALSE(fs::exists(work() / "X.vtk") || fs::exists(work() / "X.json"));
+}
+
+TEST_F(Cli, UnitsScaleTheOutputToMillimetresAndModesAreSelectable) {
+  ASSERT_EQ(run(kSmallRun + " -o mm.stl --report mm.json").exit_code, 0);
+  ASSERT_EQ(run(kSmallRun + " --units cm -o cm.stl --report cm.json").exit_code, 0);
+  const auto mm = nlohmann::json::parse(read_file(work() / "mm.json"));
+  const auto cm = nlohmann::json::parse(read_file(work() / "cm.json"));
+  EXPECT_EQ(mm["units"]["input"], "mm");
+  EXPECT_EQ(cm["units"]["input"], "cm");
+  EXPECT_EQ(cm["units"]["output"], "mm");
+  EXPECT_EQ(mm["solid"]["mode"], "shell");
+  EXPECT_NEAR(cm["grid"]["h_mm"].get<double>() / mm["grid"]["h_mm"].get<double>(), 10.0, 1e-9);
+  EXPECT_NEAR(cm["mesh"]["volume"].get<double>() / mm["mesh"]["volume"].get<double>(), 1000.0, 1e-6);
+
+  const Outcome nv = run(kSmallRun + " --mode narrow-volume -o nv.stl --report nv.json");
+  ASSERT_EQ(nv.exit_code, 0) << nv.err;
+  EXPECT_EQ(nlohmann::json::parse(read_file(work() / "nv.json"))["solid"]["mode"], "narrow-volume");
+  const Outcome bad = run(kSmallRun + " --mode narrow-volume --wall 1 -o bad.stl");
+  EXPECT_EQ(bad.exit_code, 1);
+  expect_one_error_line(bad);
+  EXPECT_FALSE(fs::exists(work() / "bad.stl"));
 }
 
 }  // namespace

@@ -12,7 +12,13 @@
 #include "poreshell/isosurface.hpp"
 #include "poreshell/mesh_io.hpp"
 #include "poreshell/mesh_surface.hpp"
-#include "poreshell/stl.hpp"
+#include "poreshell/mesh_writers.hpp"
+#include "poreshell/point_cloud.hpp"
+#include "poreshell/point_io.hpp"
+#include "poreshell/point_segmentation.hpp"
+#include "poreshell/shell.hpp"
+#include "poreshell/units.hpp"
+#include "poreshell/winding_number.hpp"
 
 namespace poreshell {
 namespace {
@@ -34,12 +40,14 @@ struct PlacedSurface {
   InputSummary input;
   Vec3 input_center = Vec3::Zero();  // x_input = (x_grid - 0.5) / scale + input_center
   int resolution = 0;                // grid points along the longest side
+  std::optional<TriangleMesh> mesh;  // a mesh input in grid coordinates: the shell's inside/outside test
 };
 
 // Grid points along the longest side: --resolution, or from --voxel-size over the longest extent.
 int resolution_for(const PipelineConfig& c, double longest_extent, int padding_cells) {
   if (!(c.voxel_size > 0.0)) return c.resolution;
-  const double n = std::round(longest_extent / c.voxel_size) + 1 + 2 * padding_cells;
+  const double voxel_size = c.voxel_size / millimetres_per_unit(c.units);  // in the input's units
+  const double n = std::round(longest_extent / voxel_size) + 1 + 2 * padding_cells;
   if (n > 2048)
     throw InputError("--voxel-size needs " + std::to_string(static_cast<long long>(n)) +
                      " grid points along the longest side (at most 2048): choose a larger voxel size");
@@ -47,8 +55,53 @@ int resolution_for(const PipelineConfig& c, double longest_extent, int padding_c
   return static_cast<int>(n);
 }
 
+// Scales and centres `vertices` (a mesh's or a point cloud's) into the paper's frame, with padding, and
+// sets the placement's resolution, scale, centre and domain.
+void fit_to_unit_grid(std::vector<Vec3>& vertices, const PipelineConfig& c, const std::string& what,
+                      PlacedSurface& placed) {
+  Box box{vertices.front(), vertices.front()};
+  for (const Vec3& v : vertices) {
+    box.min = box.min.cwiseMin(v);
+    box.max = box.max.cwiseMax(v);
+  }
+  const double longest = (box.max - box.min).maxCoeff();
+  if (!(longest > 0.0)) throw InputError(what + " has zero size");
+  placed.resolution = resolution_for(c, longest, kMeshPaddingCells);
+  const double h = 1.0 / (placed.resolution - 1);
+  const double scale = (1.0 - 2 * kMeshPaddingCells * h) / longest;
+  placed.input.scale = scale;
+  placed.input_center = 0.5 * (box.min + box.max);
+  for (Vec3& v : vertices) v = (v - placed.input_center) * scale + Vec3::Constant(0.5);
+  const Vec3 half = 0.5 * scale * (box.max - box.min) + Vec3::Constant(kMeshPaddingCells * h);
+  placed.domain = Box{Vec3::Constant(0.5) - half, Vec3::Constant(0.5) + half};
+}
+
+// A point cloud: splats (direct) or the paper's densify-and-segment route, on the grid it will get.
+void place_points(const PipelineConfig& c, PlacedSurface& placed) {
+  PointCloud cloud = read_point_cloud(c.points);
+  placed.input.kind = "points";
+  placed.input.name = c.points.string();
+  placed.input.vertices = static_cast<std::int64_t>(cloud.points.size());
+  placed.input.triangles = static_cast<std::int64_t>(cloud.triangles.size());
+  placed.input.point_route = c.point_route;
+  fit_to_unit_grid(cloud.points, c, "the point cloud '" + c.points.string() + "'", placed);
+  if (c.point_route == "direct") {
+    placed.surface = std::make_unique<SplatSurface>(std::move(cloud.points));
+    return;
+  }
+  SegmentationStats stats;
+  placed.surface = segment_point_cloud(cloud.points, cloud.triangles,
+                                       Grid::fitted(placed.domain, placed.resolution), {}, &stats);
+  placed.input.densified_points = stats.points;
+  placed.input.segmentation_iterations = stats.iterations;
+}
+
 PlacedSurface place_surface(const PipelineConfig& c) {
   PlacedSurface placed;
+  if (!c.points.empty()) {
+    place_points(c, placed);
+    return placed;
+  }
   if (c.mesh.empty()) {
     placed.surface = make_paper_shape(c.shape);
     placed.domain = Box{Vec3::Zero(), Vec3::Ones()};
@@ -69,22 +122,9 @@ PlacedSurface place_surface(const PipelineConfig& c) {
                   stats.dropped_degenerate,
                   analyze_topology(mesh).euler_characteristic,
                   1.0};
-  Box box{mesh.vertices.front(), mesh.vertices.front()};
-  for (const Vec3& v : mesh.vertices) {
-    box.min = box.min.cwiseMin(v);
-    box.max = box.max.cwiseMax(v);
-  }
-  const double longest = (box.max - box.min).maxCoeff();
-  if (!(longest > 0.0)) throw InputError("the mesh '" + c.mesh.string() + "' has zero size");
-  placed.resolution = resolution_for(c, longest, kMeshPaddingCells);
-  const double h = 1.0 / (placed.resolution - 1);
-  const double scale = (1.0 - 2 * kMeshPaddingCells * h) / longest;
-  placed.input.scale = scale;
-  placed.input_center = 0.5 * (box.min + box.max);
-  for (Vec3& v : mesh.vertices) v = (v - placed.input_center) * scale + Vec3::Constant(0.5);
-  const Vec3 half = 0.5 * scale * (box.max - box.min) + Vec3::Constant(kMeshPaddingCells * h);
-  placed.domain = Box{Vec3::Constant(0.5) - half, Vec3::Constant(0.5) + half};
+  fit_to_unit_grid(mesh.vertices, c, "the mesh '" + c.mesh.string() + "'", placed);
   placed.surface = std::make_unique<MeshSurface>(mesh);
+  placed.mesh = std::move(mesh);
   return placed;
 }
 
@@ -94,7 +134,20 @@ void validate(const PipelineConfig& c) {
   if (c.resolution > 2048)
     throw InputError("--resolution above 2048 is not supported by the reference solver");
   if (c.voxel_size < 0.0 || !std::isfinite(c.voxel_size))
-    throw InputError("--voxel-size must be a positive length in the input's units");
+    throw InputError("--voxel-size must be a positive length in millimetres");
+  millimetres_per_unit(c.units);  // throws for an unknown unit
+  if (c.mode != "shell" && c.mode != "narrow-volume")
+    throw InputError("unknown --mode '" + c.mode + "': use shell or narrow-volume");
+  if (!(c.wall >= 0.0) || !std::isfinite(c.wall))
+    throw InputError("--wall must be a positive thickness in millimetres (0: the default)");
+  parse_wall_offset(c.offset);
+  if (c.mode == "narrow-volume" && (c.wall > 0.0 || c.offset != "centered"))
+    throw InputError("--wall and --offset shape the shell: use them with --mode shell");
+  if (c.point_route != "direct" && c.point_route != "paper")
+    throw InputError("unknown --point-route '" + c.point_route + "': use direct or paper");
+  if (!c.points.empty() && !c.mesh.empty()) throw InputError("give either --mesh or --points, not both");
+  if (c.solver != "fast" && c.solver != "reference")
+    throw InputError("unknown --solver '" + c.solver + "': use fast or reference");
   if (!(c.epsilon_m > 0.0)) throw InputError("--epsilon-m must be positive (the paper uses 4)");
   if (!(c.tolerance > 0.0)) throw InputError("--tol must be positive (the paper uses 1e-3)");
   if (c.max_steps < 1) throw InputError("--max-steps must be at least 1");
@@ -110,7 +163,58 @@ void validate(const PipelineConfig& c) {
   // The model's own checks (epsilon is set from the grid later; any positive value passes here).
   poreshell::validate(ModelParameters{c.alpha, 1.0, c.phi_bar}, c.dt_in_h);
   if (c.output.empty()) throw InputError("give an output file with -o OUT.stl");
-  if (c.output.extension() != ".stl") throw InputError("the output must be an .stl file");
+  check_output_extension(c.output);
+}
+
+// The shell's samples: wall and offset from mm to grid units; the side of a mesh input from its
+// winding number (shapes have a signed distance).
+ShellSamples sample_printable_shell(const PipelineConfig& c, const PlacedSurface& placed,
+                                    const NarrowBand& band, std::span<const double> phi,
+                                    PipelineResult& result) {
+  const auto start = std::chrono::steady_clock::now();
+  const double mm_per_grid = result.input.millimetres_per_unit / result.input.scale;
+  ShellOptions options;
+  options.thickness = c.wall > 0.0 ? c.wall / mm_per_grid : 2.0 * BandOptions{}.delta_in_h * band.grid().h();
+  options.offset = parse_wall_offset(c.offset);
+  options.pattern_length = std::sqrt(2.0) * result.model.epsilon;  // unit slope across the interface
+  std::optional<WindingNumber> winding;
+  if (options.offset != WallOffset::centered && placed.input.kind != "shape") {
+    if (!placed.mesh)
+      throw InputError("--offset " + c.offset +
+                       " needs a triangle mesh or shape input to tell inside from "
+                       "outside: use --offset centered");
+    winding.emplace(*placed.mesh);
+    const double step = 0.25 * band.grid().h();
+    options.side = [&winding, step](const Vec3& x, const Vec3& cp) {
+      return side_of_surface(*winding, x, cp, step);
+    };
+  }
+  ShellSamples samples = sample_shell(*placed.surface, band, phi, options);
+  SolidSummary& s = result.solid;
+  s.wall_mm = options.thickness * mm_per_grid;
+  s.spacing_mm = samples.grid.h() * mm_per_grid;
+  s.samples = samples.points.size();
+  s.incomplete_stencils = samples.incomplete_stencils;
+  s.seconds_sample = seconds_since(start);
+  return samples;
+}
+
+// What a slicer needs, checked on the mesh as it will be written; throws naming every failed check.
+void check_printable(const MeshTopology& t, double iso) {
+  const std::string at = "the solid at iso " + std::to_string(iso);
+  if (t.triangles == 0) throw std::runtime_error(at + " is empty: choose a level above min(phi)");
+  std::string failed;
+  const auto fail = [&](std::int64_t count, const char* what) {
+    if (count != 0) failed += (failed.empty() ? "" : ", ") + std::to_string(count) + " " + what;
+  };
+  fail(t.boundary_edges, "boundary edges");
+  fail(t.nonmanifold_edges + t.nonmanifold_vertices, "non-manifold edges or vertices");
+  fail(t.misoriented_edges, "inconsistently oriented edges");
+  fail(t.degenerate_triangles, "degenerate triangles");
+  if (!(t.signed_volume > 0.0)) failed += (failed.empty() ? "" : ", ") + std::string("volume not positive");
+  if (!failed.empty())
+    throw std::runtime_error(at + " failed the printability check (" + failed +
+                             "); nothing was written. Please report this as a bug");
 }
 
 }  // namespace
@@ -141,6 +245,9 @@ PipelineResult run_pipeline(const PipelineConfig& config) {
   auto t = std::chrono::steady_clock::now();
   const PlacedSurface placed = place_surface(config);
   result.input = placed.input;
+  result.input.units = config.units;
+  result.input.millimetres_per_unit = millimetres_per_unit(config.units);
+  result.solid.mode = config.mode;
   result.seconds_input = seconds_since(t);
   const Grid grid = Grid::fitted(placed.domain, placed.resolution);
   result.grid_dims = grid.dims();
@@ -157,9 +264,15 @@ PipelineResult run_pipeline(const PipelineConfig& config) {
   result.model = ModelParameters{config.alpha, epsilon_m(config.epsilon_m, grid.h()), config.phi_bar};
   result.dt = config.dt_in_h * grid.h();
   t = std::chrono::steady_clock::now();
-  ReferenceSolver solver(band, result.model, result.dt, config.inner);
-  result.solver_name = solver.name();
-  result.inner_iteration = to_string(config.inner.method);
+  std::unique_ptr<TimeStepper> solver;
+  if (config.solver == "reference") {
+    solver = std::make_unique<ReferenceSolver>(band, result.model, result.dt, config.inner);
+    result.inner_iteration = to_string(config.inner.method);
+  } else {
+    solver = std::make_unique<FastSolver>(band, *placed.surface, result.model, result.dt, config.fast);
+    result.inner_iteration = "multigrid";
+  }
+  result.solver_name = solver->name();
   // The energy's Poisson factorisation costs about 6 s at 73k band voxels and 70 s / 2 GB at 290k:
   // --energy-every 0 skips it for large runs.
   std::optional<EnergyFunctional> energy;
@@ -169,46 +282,51 @@ PipelineResult run_pipeline(const PipelineConfig& config) {
   run_options.max_steps = config.max_steps;
   run_options.tolerance = config.tolerance;
   run_options.energy_every = config.energy_every;
+  // Separated phases span about [-1, 1]; the decayed noise of the quiet phase spans far less.
+  if (uniform_state_unstable(result.model.alpha, result.model.epsilon, result.model.phi_bar))
+    run_options.min_spread = 1.0;
   run_options.on_step = config.on_step;
-  result.run = run_to_steady_state(solver, phi, energy ? &*energy : nullptr, run_options);
+  result.run = run_to_steady_state(*solver, phi, energy ? &*energy : nullptr, run_options);
   result.seconds_solve = seconds_since(t);
   if (!std::isfinite(result.run.final_ec))
     throw std::runtime_error("the solver diverged (non-finite values)");
   result.spots = spot_statistics(band, phi, 0.0);
 
-  // The unperforated shell (phi = -1 on the band) gives the reference Euler characteristic: each pore is
-  // one tunnel, so pores = (chi0 - chi) / 2. Computed, not derived from the input's topology, because the
-  // band closes holes narrower than about 2 delta (a scan's small holes) and may merge close sheets.
-  const std::vector<double> solid(band.size(), -1.0);
-  result.unperforated_euler = analyze_topology(narrow_volume_mesh(band, solid, 0.0)).euler_characteristic;
-
   // Build and check every mesh before writing any, so a failed check leaves no output at all.
   t = std::chrono::steady_clock::now();
+  std::optional<ShellSamples> shell;
+  if (config.mode == "shell") {
+    shell = sample_printable_shell(config, placed, band, phi, result);
+  } else {
+    const double mm_per_grid = result.input.millimetres_per_unit / result.input.scale;
+    result.solid.wall_mm = 2.0 * BandOptions{}.delta_in_h * grid.h() * mm_per_grid;
+    result.solid.spacing_mm = grid.h() * mm_per_grid;
+  }
+  result.solid.offset = config.offset;
+  // The unperforated solid gives the reference Euler characteristic: each pore is one tunnel, so
+  // pores = (chi0 - chi) / 2. Computed, not derived from the input's topology, because the band closes
+  // holes narrower than about 2 delta (a scan's small holes) and may merge close sheets.
+  const std::vector<double> solid(band.size(), -1.0);
+  result.unperforated_euler =
+      analyze_topology(shell ? unperforated_shell_mesh(*shell) : narrow_volume_mesh(band, solid, 0.0))
+          .euler_characteristic;
   const bool several = config.iso_levels.size() > 1;
   std::vector<TriangleMesh> meshes;
   for (double iso : config.iso_levels) {
     MeshOutput out;
     out.iso = iso;
     out.path = output_path_for_level(config.output, iso, several);
-    meshes.push_back(narrow_volume_mesh(band, phi, iso));
+    meshes.push_back(shell ? shell_mesh(*shell, iso) : narrow_volume_mesh(band, phi, iso));
+    for (Vec3& v : meshes.back().vertices)  // back to the input's frame, then to millimetres
+      v = ((v - Vec3::Constant(0.5)) / result.input.scale + placed.input_center) *
+          result.input.millimetres_per_unit;
     out.topology = analyze_topology(meshes.back());
     out.spots_at_iso = spot_statistics(band, phi, iso).count;
     out.pores_from_euler = (result.unperforated_euler - out.topology.euler_characteristic) / 2;
-    if (out.topology.triangles == 0)
-      throw std::runtime_error("the isosurface at " + std::to_string(iso) +
-                               " is empty: choose a level above min(phi)");
-    if (!out.topology.closed() || !out.topology.manifold() || !out.topology.oriented() ||
-        !(out.topology.signed_volume > 0.0))
-      throw std::runtime_error(
-          "the mesh at iso " + std::to_string(iso) +
-          " failed the printability check (closed, manifold, oriented, positive volume)");
+    check_printable(out.topology, iso);
     result.meshes.push_back(out);
   }
-  for (std::size_t i = 0; i < meshes.size(); ++i) {
-    for (Vec3& v : meshes[i].vertices)
-      v = (v - Vec3::Constant(0.5)) / result.input.scale + placed.input_center;  // back to input units
-    write_stl_binary(result.meshes[i].path, meshes[i]);
-  }
+  for (std::size_t i = 0; i < meshes.size(); ++i) write_mesh(result.meshes[i].path, meshes[i]);
   result.seconds_mesh = seconds_since(t);
   result.seconds_total = seconds_since(start);
   return result;

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "poreshell/band.hpp"
+#include "poreshell/fast_solver.hpp"
 #include "poreshell/mesh.hpp"
 #include "poreshell/model.hpp"
 #include "poreshell/pattern.hpp"
@@ -22,8 +23,10 @@ namespace poreshell {
 struct PipelineConfig {
   std::string shape = "sphere";  // sphere | torus (section 3.2, on the unit cube)
   std::filesystem::path mesh;    // a triangle mesh file instead of a shape (STL, OBJ, PLY, OFF, 3MF)
+  std::filesystem::path points;  // a point cloud file instead of a shape (XYZ text, PLY vertices)
   int resolution = 131;          // grid points along the longest side (the paper's N)
-  double voxel_size = 0.0;       // h in the input's units; when > 0 it sets the resolution instead
+  double voxel_size = 0.0;       // h in millimetres; when > 0 it sets the resolution instead
+  std::string units = "mm";      // unit of the input's coordinates: m | cm | mm | inch; outputs are in mm
   double alpha = 1400.0;         // nonlocal strength alpha
   double epsilon_m = 4.0;        // m in epsilon_m = m h / (2 sqrt 2 atanh 0.9)
   double dt_in_h = 100.0;        // time step in units of h
@@ -33,10 +36,16 @@ struct PipelineConfig {
   double phi_bar = -0.3;   // mean concentration
   double amplitude = 0.5;  // phi0 = phi_bar + amplitude * rand, rand uniform in [-1, 1]
   std::vector<double> iso_levels{0.0};
-  InnerOptions inner;
+  std::string solver = "fast";   // fast (docs/solver.md) | reference (the paper's scheme, relaxation)
+  InnerOptions inner;            // reference solver
+  FastOptions fast;              // fast solver
   int energy_every = 10;         // evaluate the energy (3.2) every K steps and at the end; 0: never
-  std::filesystem::path output;  // .stl; with several iso levels OUT-isoC.stl per level
+  std::filesystem::path output;  // .stl .3mf .obj .ply; with several iso levels OUT-isoC.ext per level
+  std::string mode = "shell";    // shell (wall of its own, pores straight through) | narrow-volume (Fig. 3b)
+  double wall = 0.0;             // shell wall thickness in mm; 0: the band's width 2 delta = 3.81 h
+  std::string offset = "centered";  // shell wall: centered on the surface, inside or outside it
   std::function<void(const StepProgress&)> on_step;
+  std::string point_route = "direct";  // --points: direct (splats, no PDE) | paper (densify + eq. 3.3)
 };
 
 struct MeshOutput {
@@ -44,15 +53,31 @@ struct MeshOutput {
   std::filesystem::path path;
   MeshTopology topology;
   std::int64_t spots_at_iso = 0;      // connected components of {phi > iso} on the band
-  std::int64_t pores_from_euler = 0;  // (chi of the unperforated narrow volume - chi) / 2
+  std::int64_t pores_from_euler = 0;  // (chi of the unperforated solid - chi) / 2
 };
 
 struct InputSummary {
-  std::string kind;  // "shape" or "mesh"
+  std::string kind;  // "shape", "mesh" or "points"
   std::string name;  // shape name or file path
   std::int64_t vertices = 0, triangles = 0, boundary_edges = 0, dropped_degenerate = 0;
   std::int64_t euler_characteristic = 2;  // of the surface; the unperforated shell has twice this
   double scale = 1.0;                     // grid units per input unit (meshes are fitted to the unit box)
+  std::string units = "mm";               // unit of the input's coordinates
+  double millimetres_per_unit = 1.0;
+  std::string point_route{};          // points: "direct" or "paper"
+  std::int64_t densified_points = 0;  // points, paper route: after Fig. 8's densification
+  int segmentation_iterations = 0;    // points, paper route: explicit steps of eq. (3.3)
+};
+
+// The printable solid as built (lengths in mm, the unit of every output).
+struct SolidSummary {
+  std::string mode;                      // shell | narrow-volume
+  double wall_mm = 0.0;                  // requested wall (shell); the band's width 2 delta (narrow volume)
+  std::string offset;                    // centered | inside | outside (shell)
+  double spacing_mm = 0.0;               // grid spacing the solid was meshed on
+  std::size_t samples = 0;               // sparse grid points sampled (shell)
+  std::int64_t incomplete_stencils = 0;  // closest points whose 8 band corners were not all present
+  double seconds_sample = 0.0;           // distance, closest point, sign and pattern per sample
 };
 
 struct PipelineResult {
@@ -68,7 +93,8 @@ struct PipelineResult {
   std::string inner_iteration;
   RunResult run;
   SpotStats spots;                      // at phi > 0
-  std::int64_t unperforated_euler = 0;  // chi of the narrow volume without pores
+  std::int64_t unperforated_euler = 0;  // chi of the solid without pores
+  SolidSummary solid;
   std::vector<MeshOutput> meshes;
   double seconds_input = 0.0, seconds_band = 0.0, seconds_solve = 0.0, seconds_mesh = 0.0,
          seconds_total = 0.0;
