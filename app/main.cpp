@@ -104,6 +104,14 @@ void print_summary(const poreshell::PipelineConfig& c, const poreshell::Pipeline
       r.spots.count, r.spots.size_cv, r.spots.spacing_mean, r.spots.spacing_cv, r.spots.area_fraction);
   fmt::print("  time     band {:.2f} s, solve {:.2f} s, mesh+write {:.2f} s, total {:.2f} s ({} threads)\n",
              r.seconds_band, r.seconds_solve, r.seconds_mesh, r.seconds_total, r.threads);
+  constexpr double kMiB = 1024.0 * 1024.0;
+  fmt::print(
+      "  memory   peak {:.0f} MiB after the band, {:.0f} MiB after the solve ({:.0f} B per band voxel), "
+      "{:.0f} MiB "
+      "in all\n",
+      static_cast<double>(r.peak_rss_after_band) / kMiB, static_cast<double>(r.peak_rss_after_solve) / kMiB,
+      r.band_voxels ? static_cast<double>(r.peak_rss_after_solve) / static_cast<double>(r.band_voxels) : 0.0,
+      static_cast<double>(r.peak_rss_total) / kMiB);
   if (r.solid.mode == "shell")
     fmt::print("  solid    shell, wall {:.4g} mm {}, meshed at {:.4g} mm ({} samples, {:.2f} s)\n",
                r.solid.wall_mm, r.solid.offset, r.solid.spacing_mm, r.solid.samples, r.solid.seconds_sample);

@@ -18,7 +18,8 @@ constexpr double kCoarseEnough = 8.0;
 constexpr std::size_t kSmallestBand = 1500;
 constexpr int kMaxLevels = 8;
 constexpr int kSmoothingSweeps = 2;  // before and after the coarse correction
-constexpr int kCoarsestSweeps = 10;
+constexpr int kCoarsestSweeps = 10;  // between residual checks
+constexpr int kMaxCoarsestSweeps = 400;
 constexpr int kPadCells = 6;  // coarse grids: band (1.9 cells) + ghosts + margin
 
 // Coarse levels hold a few thousand voxels: one task each, not a scheduler round trip per loop.
@@ -197,7 +198,17 @@ void BandMultigrid::smooth(Level& level, double z, int sweeps) {
 void BandMultigrid::v_cycle(std::size_t l, std::size_t last, double z) {
   Level& fine = levels_[l];
   if (l == last) {
-    smooth(fine, z, l == 0 ? kSmoothingSweeps : kCoarsestSweeps);
+    if (l == 0) {
+      smooth(fine, z, kSmoothingSweeps);
+      return;
+    }
+    // The coarsest band is small: smooth it until its residual has dropped 1000-fold. Where coarsening
+    // stopped at the size limit rather than at z h^2 >= 8, that takes more than a few sweeps.
+    const double target = 1e-3 * residual(fine, z);
+    for (int sweeps = 0; sweeps < kMaxCoarsestSweeps; sweeps += kCoarsestSweeps) {
+      smooth(fine, z, kCoarsestSweeps);
+      if (residual(fine, z) <= target) break;
+    }
     return;
   }
   smooth(fine, z, kSmoothingSweeps);

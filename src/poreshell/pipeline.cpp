@@ -2,6 +2,8 @@
 
 #include <tbb/global_control.h>
 
+#include <sys/resource.h>
+
 #include <chrono>
 #include <cmath>
 #include <optional>
@@ -22,6 +24,13 @@
 
 namespace poreshell {
 namespace {
+
+// The process's peak resident set so far (Linux reports kilobytes).
+std::size_t peak_rss_bytes() {
+  rusage usage{};
+  if (getrusage(RUSAGE_SELF, &usage) != 0) return 0;
+  return static_cast<std::size_t>(usage.ru_maxrss) * 1024;
+}
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -256,6 +265,7 @@ PipelineResult run_pipeline(const PipelineConfig& config) {
   t = std::chrono::steady_clock::now();
   const NarrowBand band = build_band(*placed.surface, grid);
   result.seconds_band = seconds_since(t);
+  result.peak_rss_after_band = peak_rss_bytes();
   result.band_voxels = band.size();
   result.ghosts = band.ghost_count();
   result.band_stats = band.stats();
@@ -269,7 +279,9 @@ PipelineResult run_pipeline(const PipelineConfig& config) {
     solver = std::make_unique<ReferenceSolver>(band, result.model, result.dt, config.inner);
     result.inner_iteration = to_string(config.inner.method);
   } else {
-    solver = std::make_unique<FastSolver>(band, *placed.surface, result.model, result.dt, config.fast);
+    auto fast = std::make_unique<FastSolver>(band, *placed.surface, result.model, result.dt, config.fast);
+    result.solver_bytes = fast->memory_bytes();
+    solver = std::move(fast);
     result.inner_iteration = "multigrid";
   }
   result.solver_name = solver->name();
@@ -288,6 +300,7 @@ PipelineResult run_pipeline(const PipelineConfig& config) {
   run_options.on_step = config.on_step;
   result.run = run_to_steady_state(*solver, phi, energy ? &*energy : nullptr, run_options);
   result.seconds_solve = seconds_since(t);
+  result.peak_rss_after_solve = peak_rss_bytes();
   if (!std::isfinite(result.run.final_ec))
     throw std::runtime_error("the solver diverged (non-finite values)");
   result.spots = spot_statistics(band, phi, 0.0);
@@ -329,6 +342,7 @@ PipelineResult run_pipeline(const PipelineConfig& config) {
   for (std::size_t i = 0; i < meshes.size(); ++i) write_mesh(result.meshes[i].path, meshes[i]);
   result.seconds_mesh = seconds_since(t);
   result.seconds_total = seconds_since(start);
+  result.peak_rss_total = peak_rss_bytes();
   return result;
 }
 

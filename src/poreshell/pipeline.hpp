@@ -98,6 +98,9 @@ struct PipelineResult {
   std::vector<MeshOutput> meshes;
   double seconds_input = 0.0, seconds_band = 0.0, seconds_solve = 0.0, seconds_mesh = 0.0,
          seconds_total = 0.0;
+  // Peak resident memory of the process at the end of each stage (bytes; 0 where not measurable).
+  std::size_t peak_rss_after_band = 0, peak_rss_after_solve = 0, peak_rss_total = 0;
+  std::size_t solver_bytes = 0;  // the solver's own arrays (multigrid hierarchy, work vectors)
   int threads = 0;
 };
 
