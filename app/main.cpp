@@ -96,7 +96,7 @@ void print_summary(const poreshell::PipelineConfig& c, const poreshell::Pipeline
              yes_no(r.run.reached_tolerance, "reached", "NOT reached"), r.run.inner_iterations,
              r.run.inner_converged ? "" : " (some steps did not reach --inner-tol)");
   if (std::isnan(r.run.energy_first))
-    fmt::print("  energy   not evaluated (--energy-every 0)\n");
+    fmt::print("  energy   not evaluated (a diagnostic: --energy-every K)\n");
   else
     fmt::print("  energy   first {:.6e}, final {:.6e}\n", r.run.energy_first, r.run.energy_last);
   fmt::print(

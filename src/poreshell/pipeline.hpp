@@ -39,7 +39,7 @@ struct PipelineConfig {
   std::string solver = "fast";   // fast (docs/solver.md) | reference (the paper's scheme, relaxation)
   InnerOptions inner;            // reference solver
   FastOptions fast;              // fast solver
-  int energy_every = 10;         // evaluate the energy (3.2) every K steps and at the end; 0: never
+  int energy_every = 0;          // evaluate the energy (3.2) every K steps and at the end; 0: never
   std::filesystem::path output;  // .stl .3mf .obj .ply; with several iso levels OUT-isoC.ext per level
   std::string mode = "shell";    // shell (wall of its own, pores straight through) | narrow-volume (Fig. 3b)
   double wall = 0.0;             // shell wall thickness in mm; 0: the band's width 2 delta = 3.81 h
