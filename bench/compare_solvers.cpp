@@ -1,10 +1,12 @@
-// Runs the whole pipeline (input file in -> STL out) once per solver in one process, on the same
-// machine and inputs, and prints each stage's time, the steps, the pattern and the ratio of the solve
-// and total times. Usage: bench_compare --mesh data/stanford-bunny.obj --alpha 2200 [--solvers ...].
+// Runs the whole pipeline (input file in -> STL out) once per solver and seed in one process, on the same
+// machine and inputs, and prints each stage's time, the steps, the pattern, the ratio of the solve and
+// total times and, over several seeds, the mean pattern statistics of each solver.
+// Usage: bench_compare --mesh data/stanford-bunny.obj --alpha 2200 [--solvers ...] [--seeds 1,2,3].
 
 #include <fmt/core.h>
 
 #include <CLI/CLI.hpp>
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -15,12 +17,13 @@ int main(int argc, char** argv) {
   poreshell::PipelineConfig config;
   std::string mesh, out_dir = "out/bench";
   std::vector<std::string> solvers{"reference", "fast"};
+  std::vector<std::uint64_t> seeds{1};
   CLI::App app{"poreshell solver comparison: same input, same process, one run per solver"};
   app.add_option("--shape", config.shape);
   app.add_option("--mesh", mesh);
   app.add_option("--resolution", config.resolution);
   app.add_option("--alpha", config.alpha);
-  app.add_option("--seed", config.seed);
+  app.add_option("--seeds", seeds)->delimiter(',');
   app.add_option("--iso", config.iso_levels)->delimiter(',');
   app.add_option("--solvers", solvers)->delimiter(',');
   app.add_option("--out-dir", out_dir);
@@ -30,23 +33,41 @@ int main(int argc, char** argv) {
   std::filesystem::create_directories(out_dir);
   const std::string name = mesh.empty() ? config.shape : std::filesystem::path(mesh).stem().string();
 
-  std::vector<poreshell::PipelineResult> results;
-  for (const std::string& solver : solvers) {
-    config.solver = solver;
-    config.output = std::filesystem::path(out_dir) / (name + "-" + solver + ".stl");
-    results.push_back(poreshell::run_pipeline(config));
-    const poreshell::PipelineResult& r = results.back();
-    fmt::print(
-        "{:<10} {} grid {}x{}x{}, {} band voxels: input {:.2f} s, band {:.2f} s, solve {:.2f} s ({} steps, "
-        "{:.4f} s/step), mesh+write {:.2f} s, total {:.2f} s; {} spots, size CV {:.3f}, spacing CV {:.3f}\n",
-        solver, name, r.grid_dims[0], r.grid_dims[1], r.grid_dims[2], r.band_voxels, r.seconds_input,
-        r.seconds_band, r.seconds_solve, r.run.steps, r.seconds_solve / std::max(1, r.run.steps),
-        r.seconds_mesh, r.seconds_total, r.spots.count, r.spots.size_cv, r.spots.spacing_cv);
-    std::fflush(stdout);
-  }
-  if (results.size() == 2)
+  struct Totals {
+    double solve = 0, total = 0, spots = 0, size_cv = 0, spacing_cv = 0;
+  };
+  std::vector<Totals> totals(solvers.size());
+  for (std::uint64_t seed : seeds)
+    for (std::size_t s = 0; s < solvers.size(); ++s) {
+      config.solver = solvers[s];
+      config.seed = seed;
+      config.output = std::filesystem::path(out_dir) / (name + "-" + solvers[s] + ".stl");
+      const poreshell::PipelineResult r = poreshell::run_pipeline(config);
+      fmt::print(
+          "{:<10} {} seed {}, grid {}x{}x{}, {} band voxels: input {:.2f} s, band {:.2f} s, solve {:.2f} s "
+          "({} "
+          "steps, {:.4f} s/step), mesh+write {:.2f} s, total {:.2f} s; peak RSS after solve {:.0f} MiB; {} "
+          "spots, "
+          "size CV {:.3f}, spacing CV {:.3f}\n",
+          solvers[s], name, seed, r.grid_dims[0], r.grid_dims[1], r.grid_dims[2], r.band_voxels,
+          r.seconds_input, r.seconds_band, r.seconds_solve, r.run.steps,
+          r.seconds_solve / std::max(1, r.run.steps), r.seconds_mesh, r.seconds_total,
+          static_cast<double>(r.peak_rss_after_solve) / (1024.0 * 1024.0), r.spots.count, r.spots.size_cv,
+          r.spots.spacing_cv);
+      std::fflush(stdout);
+      const double n = static_cast<double>(seeds.size());
+      Totals& t = totals[s];
+      t.solve += r.seconds_solve;
+      t.total += r.seconds_total;
+      t.spots += static_cast<double>(r.spots.count) / n;
+      t.size_cv += r.spots.size_cv / n;
+      t.spacing_cv += r.spots.spacing_cv / n;
+    }
+  for (std::size_t s = 0; s < solvers.size(); ++s)
+    fmt::print("mean over {} seed(s), {:<10}: spots {:.1f}, size CV {:.3f}, spacing CV {:.3f}\n",
+               seeds.size(), solvers[s], totals[s].spots, totals[s].size_cv, totals[s].spacing_cv);
+  if (solvers.size() == 2)
     fmt::print("ratio {} / {}: solve {:.1f}x, total {:.1f}x\n", solvers[0], solvers[1],
-               results[0].seconds_solve / results[1].seconds_solve,
-               results[0].seconds_total / results[1].seconds_total);
+               totals[0].solve / totals[1].solve, totals[0].total / totals[1].total);
   return 0;
 }
