@@ -4,7 +4,6 @@
 // reference implementation (components, build-item transforms). Both only fill a TriangleMesh; all
 // checks and clean-up happen afterwards in one place, clean_triangle_mesh.
 
-#include <Model/COM/NMR_DLLInterfaces.h>
 #include <fmt/format.h>
 
 #include <assimp/postprocess.h>
@@ -20,17 +19,13 @@
 #include <tuple>
 
 #include "poreshell/error.hpp"
+#include "poreshell/file_format.hpp"
+#include "poreshell/lib3mf_support.hpp"
 
 namespace poreshell {
 namespace {
 
 constexpr const char* kSupported = ".stl, .obj, .ply, .off, .3mf";
-
-std::string lowercase_extension(const std::filesystem::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return std::tolower(ch); });
-  return ext;
-}
 
 void append_triangle(TriangleMesh& out, std::size_t a, std::size_t b, std::size_t c) {
   out.triangles.push_back(
@@ -76,12 +71,6 @@ TriangleMesh read_with_assimp(const std::filesystem::path& path) {
   append_assimp_node(*scene, *scene->mRootNode, aiMatrix4x4(), out);
   return out;
 }
-
-// lib3mf 1.x hands out reference-counted handles that must each be released.
-struct Lib3mfRelease {
-  void operator()(NMR::PLib3MFBase* handle) const { NMR::lib3mf_release(handle); }
-};
-using Lib3mfHandle = std::unique_ptr<NMR::PLib3MFBase, Lib3mfRelease>;
 
 class Lib3mfReader {
  public:
@@ -179,11 +168,7 @@ class Lib3mfReader {
 
   void check(LIB3MFRESULT result, NMR::PLib3MFBase* handle) const {
     if (result == LIB3MF_OK) return;
-    std::string message = fmt::format("lib3mf error {:#x}", static_cast<unsigned>(result));
-    DWORD code = 0;
-    LPCSTR text = nullptr;
-    if (handle != nullptr && NMR::lib3mf_getlasterror(handle, &code, &text) == LIB3MF_OK && text != nullptr)
-      message = text;
+    const std::string message = lib3mf_error_text(result, handle);
     throw InputError(
         fmt::format("cannot read mesh file '{}': {}; check that it is a complete, valid .3mf file",
                     path_.string(), message));

@@ -4,7 +4,6 @@
 // format carries exactly the geometry of the binary STL. 3MF goes through lib3mf, the format's
 // reference implementation; it writes to memory first so that the file itself is written atomically.
 
-#include <Model/COM/NMR_DLLInterfaces.h>
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -16,16 +15,12 @@
 
 #include "poreshell/atomic_file.hpp"
 #include "poreshell/error.hpp"
+#include "poreshell/file_format.hpp"
+#include "poreshell/lib3mf_support.hpp"
 #include "poreshell/stl.hpp"
 
 namespace poreshell {
 namespace {
-
-std::string lowercase_extension(const std::filesystem::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return std::tolower(ch); });
-  return ext;
-}
 
 void check_size(const std::filesystem::path& path, const TriangleMesh& mesh) {
   if (mesh.triangles.empty())
@@ -39,19 +34,9 @@ void put_u32(std::vector<char>& out, std::uint32_t v) {
   for (int b = 0; b < 4; ++b) out.push_back(static_cast<char>((v >> (8 * b)) & 0xFFu));
 }
 
-// lib3mf 1.x hands out reference-counted handles that must each be released.
-struct Lib3mfRelease {
-  void operator()(NMR::PLib3MFBase* handle) const { NMR::lib3mf_release(handle); }
-};
-using Lib3mfHandle = std::unique_ptr<NMR::PLib3MFBase, Lib3mfRelease>;
-
 void check_3mf(LIB3MFRESULT result, NMR::PLib3MFBase* handle, const std::filesystem::path& path) {
   if (result == LIB3MF_OK) return;
-  std::string message = fmt::format("lib3mf error {:#x}", static_cast<unsigned>(result));
-  DWORD code = 0;
-  LPCSTR text = nullptr;
-  if (handle != nullptr && NMR::lib3mf_getlasterror(handle, &code, &text) == LIB3MF_OK && text != nullptr)
-    message = text;
+  const std::string message = lib3mf_error_text(result, handle);
   throw std::runtime_error(fmt::format("writing 3MF file '{}' failed: {}", path.string(), message));
 }
 

@@ -17,15 +17,10 @@
 #include <system_error>
 
 #include "poreshell/error.hpp"
+#include "poreshell/file_format.hpp"
 
 namespace poreshell {
 namespace {
-
-std::string lowercase_extension(const std::filesystem::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return std::tolower(ch); });
-  return ext;
-}
 
 void check_finite(const Vec3& p, const std::filesystem::path& path, std::size_t index) {
   if (!p.allFinite())
