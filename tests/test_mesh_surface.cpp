@@ -22,13 +22,6 @@
 using namespace poreshell;
 namespace fs = std::filesystem;
 
-// lib3mf 1.8.1 leaks a few hundred bytes of libzip state per 3MF file it reads (a ten-line program
-// that only opens and releases a reader shows it too). Tell LeakSanitizer, in sanitizer builds.
-extern "C" const char* __lsan_default_suppressions();
-extern "C" const char* __lsan_default_suppressions() {
-  return "leak:libzip.so\n";
-}
-
 namespace {
 
 // ---------- meshes ----------
