@@ -241,6 +241,10 @@ int run(int argc, char** argv) {
                  "mean concentration φ̄ in eq. (2.1), sets the pore fraction (paper: -0.3)")
       ->type_name("F")
       ->capture_default_str();
+  app.add_option("--max-memory", config.max_memory_gb,
+                 "refuse runs estimated to need more memory than this, in GB (default: what is available)")
+      ->type_name("GB")
+      ->check(number_above(0.0, false));
   app.add_option("--solver", config.solver,
                  "fast: stabilised scheme, band multigrid (docs/solver.md); reference: the paper's scheme")
       ->check(CLI::IsMember({"fast", "reference"}))

@@ -105,11 +105,16 @@ std::uint32_t stl_triangle_count(const std::string& bytes) {
 TEST_F(Cli, HelpExitsZeroAndMentionsEveryOption) {
   const Outcome o = run("--help");
   EXPECT_EQ(o.exit_code, 0) << o.err;
-  for (const char* option :
-       {"--shape",     "--resolution", "--alpha", "--epsilon-m", "--dt-h",    "--tol",
-        "--max-steps", "--seed",       "--iso",   "--threads",   "--phi-bar", "--inner",
-        "--inner-tol", "--mesh",       "-o",      "--report",    "--quiet",   "--version",
-        "--units",     "--mode",       "--wall",  "--offset",    "--points",  "--point-route"})
+  for (const char* option : {"--shape",     "--resolution", "--alpha",
+                             "--epsilon-m", "--dt-h",       "--tol",
+                             "--max-steps", "--seed",       "--iso",
+                             "--threads",   "--phi-bar",    "--inner",
+                             "--inner-tol", "--mesh",       "-o",
+                             "--report",    "--quiet",      "--version",
+                             "--units",     "--mode",       "--wall",
+                             "--offset",    "--points",     "--point-route",
+                             "--solver",    "--fast-tol",   "--min-stabilisation",
+                             "--max-memory"})
     EXPECT_NE(o.out.find(option), std::string::npos) << option << " missing from --help:\n" << o.out;
   EXPECT_TRUE(files_in_work().empty());
 }
@@ -187,6 +192,19 @@ TEST_F(Cli, MissingOrBadPointsFailWithTheirNameAndNoOutput) {
   const Outcome both = run("--points bad.xyz --mesh bunny.obj -o X.stl");
   EXPECT_EQ(both.exit_code, 2);
   expect_one_error_line(both);
+}
+
+// The band is estimated on a coarse grid before anything large is allocated: a run that would not fit
+// is refused with the resolution that would (the sphere at N = 161 needs about 0.14 GB).
+TEST_F(Cli, RunThatWouldNotFitInMemoryIsRefusedBeforeRunning) {
+  const Outcome o = run("--shape sphere --resolution 161 --max-memory 0.05 --quiet -o X.stl --report X.json");
+  EXPECT_EQ(o.exit_code, 1);
+  expect_one_error_line(o);
+  EXPECT_NE(o.err.find("--max-memory"), std::string::npos) << o.err;
+  EXPECT_NE(o.err.find("use --resolution"), std::string::npos) << o.err;
+  EXPECT_TRUE(files_in_work().empty());
+  const Outcome fits = run("--shape sphere --resolution 161 --max-memory 1 --max-steps 1 --quiet -o X.stl");
+  EXPECT_EQ(fits.exit_code, 0) << fits.err;
 }
 
 TEST_F(Cli, OutputInAMissingDirectoryFailsBeforeRunning) {

@@ -3,9 +3,11 @@
 #include <tbb/global_control.h>
 
 #include <sys/resource.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cmath>
+#include <fstream>
 #include <optional>
 #include <sstream>
 
@@ -30,6 +32,53 @@ std::size_t peak_rss_bytes() {
   rusage usage{};
   if (getrusage(RUSAGE_SELF, &usage) != 0) return 0;
   return static_cast<std::size_t>(usage.ru_maxrss) * 1024;
+}
+
+// Peak bytes of a whole run per band voxel, measured over the bunny scaling series (docs/benchmarks.md:
+// 1.1-1.5 kB, the shell and its mesh included).
+constexpr double kPeakBytesPerBandVoxel = 1300.0;
+
+// MemAvailable from /proc/meminfo, else the physical memory.
+double available_memory_bytes() {
+  std::ifstream meminfo("/proc/meminfo");
+  std::string key;
+  double kib = 0.0;
+  std::string unit;
+  while (meminfo >> key >> kib >> unit)
+    if (key == "MemAvailable:") return kib * 1024.0;
+  return static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE));
+}
+
+// Refuses, before anything large is allocated, a run whose band would not fit in memory. The band is
+// counted on a grid 8 times coarser (cheap: 1/64 of the voxels) and scaled by (h_coarse / h)^2, since a
+// surface's band grows like its area over h^2.
+void check_memory(const PipelineConfig& c, const Surface& surface, const Box& domain, int resolution,
+                  double h_mm) {
+  const double limit = c.max_memory_gb > 0.0 ? c.max_memory_gb * 1e9 : available_memory_bytes();
+  const int coarse_points = (resolution - 1) / 8 + 1;
+  if (coarse_points < 17) return;  // a small run: the estimate would be coarser than the run itself
+  const double fine_h = (domain.max - domain.min).maxCoeff() / (resolution - 1);
+  const double coarse_h = 8.0 * fine_h;
+  Box padded{domain.min - Vec3::Constant(4 * coarse_h), domain.max + Vec3::Constant(4 * coarse_h)};
+  const Grid coarse = Grid::fitted(
+      padded, static_cast<int>(std::lround((padded.max - padded.min).maxCoeff() / coarse_h)) + 1);
+  double voxels = 0.0;
+  try {
+    voxels = static_cast<double>(build_band(surface, coarse).size()) * std::pow(coarse.h() / fine_h, 2);
+  } catch (const InputError&) {
+    return;  // no estimate on this grid: the run itself will say what is wrong
+  }
+  const double needed = voxels * kPeakBytesPerBandVoxel;
+  if (needed <= limit) return;
+  const double shrink = std::sqrt(limit / needed);
+  std::ostringstream message;
+  message.precision(3);
+  message << "this run needs about " << needed / 1e9 << " GB (about " << voxels / 1e6
+          << " million band voxels at h = " << h_mm << " mm), more than the " << limit / 1e9 << " GB "
+          << (c.max_memory_gb > 0.0 ? "allowed by --max-memory" : "available") << ": use --resolution "
+          << static_cast<int>(1 + (resolution - 1) * shrink) << " or less, or --voxel-size " << h_mm / shrink
+          << " mm or more";
+  throw InputError(message.str());
 }
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
@@ -155,6 +204,7 @@ void validate(const PipelineConfig& c) {
   if (c.point_route != "direct" && c.point_route != "paper")
     throw InputError("unknown --point-route '" + c.point_route + "': use direct or paper");
   if (!c.points.empty() && !c.mesh.empty()) throw InputError("give either --mesh or --points, not both");
+  if (!(c.max_memory_gb >= 0.0)) throw InputError("--max-memory must be a positive number of GB");
   if (c.solver != "fast" && c.solver != "reference")
     throw InputError("unknown --solver '" + c.solver + "': use fast or reference");
   if (!(c.epsilon_m > 0.0)) throw InputError("--epsilon-m must be positive (the paper uses 4)");
@@ -261,6 +311,8 @@ PipelineResult run_pipeline(const PipelineConfig& config) {
   const Grid grid = Grid::fitted(placed.domain, placed.resolution);
   result.grid_dims = grid.dims();
   result.h = grid.h();
+  check_memory(config, *placed.surface, placed.domain, placed.resolution,
+               grid.h() / placed.input.scale * millimetres_per_unit(config.units));
 
   t = std::chrono::steady_clock::now();
   const NarrowBand band = build_band(*placed.surface, grid);

@@ -26,6 +26,7 @@ struct PipelineConfig {
   std::filesystem::path points;  // a point cloud file instead of a shape (XYZ text, PLY vertices)
   int resolution = 131;          // grid points along the longest side (the paper's N)
   double voxel_size = 0.0;       // h in millimetres; when > 0 it sets the resolution instead
+  double max_memory_gb = 0.0;    // refuse runs estimated to need more; 0: the memory available now
   std::string units = "mm";      // unit of the input's coordinates: m | cm | mm | inch; outputs are in mm
   double alpha = 1400.0;         // nonlocal strength alpha
   double epsilon_m = 4.0;        // m in epsilon_m = m h / (2 sqrt 2 atanh 0.9)
