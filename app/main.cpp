@@ -6,6 +6,7 @@
 #include <tbb/global_control.h>
 
 #include <CLI/CLI.hpp>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -241,6 +242,13 @@ int run(int argc, char** argv) {
                  "mean concentration φ̄ in eq. (2.1), sets the pore fraction (paper: -0.3)")
       ->type_name("F")
       ->capture_default_str();
+  app.add_option("--rim", config.rim_mm, "solid rim of this width (mm) along the mesh's open boundary")
+      ->type_name("MM")
+      ->check(number_above(0.0, true));
+  std::vector<std::string> keep_out;
+  app.add_option("--keep-out", keep_out,
+                 "solid sphere X,Y,Z,R in mm (input frame) where no pore may form; repeatable")
+      ->type_name("X,Y,Z,R");
   app.add_option("--max-memory", config.max_memory_gb,
                  "refuse runs estimated to need more memory than this, in GB (default: what is available)")
       ->type_name("GB")
@@ -296,6 +304,19 @@ int run(int argc, char** argv) {
 
   config.inner.method = poreshell::parse_inner_iteration(inner);
   config.output = output;
+  for (const std::string& text : keep_out) {
+    std::array<double, 4> sphere{};
+    char extra = 0;
+    if (std::sscanf(text.c_str(), "%lf,%lf,%lf,%lf%c", &sphere[0], &sphere[1], &sphere[2], &sphere[3],
+                    &extra) != 4) {
+      fmt::print(
+          stderr,
+          "poreshell: error: --keep-out '{}' is not X,Y,Z,R (four numbers, mm) (see poreshell --help)\n",
+          text);
+      return kExitUsage;
+    }
+    config.keep_out.push_back(sphere);
+  }
   config.mesh = mesh;
   config.points = points;
   check_writable_location(config.output, "the output");

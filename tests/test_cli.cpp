@@ -207,6 +207,19 @@ TEST_F(Cli, RunThatWouldNotFitInMemoryIsRefusedBeforeRunning) {
   EXPECT_EQ(fits.exit_code, 0) << fits.err;
 }
 
+TEST_F(Cli, SolidZoneOptionsAreChecked) {
+  const Outcome malformed = run(kSmallRun + " --keep-out 1,2,3 -o X.stl");
+  EXPECT_EQ(malformed.exit_code, 2);
+  expect_one_error_line(malformed);
+  EXPECT_NE(malformed.err.find("X,Y,Z,R"), std::string::npos) << malformed.err;
+  const Outcome reference = run(kSmallRun + " --rim 1 --solver reference -o X.stl");
+  EXPECT_EQ(reference.exit_code, 1);
+  expect_one_error_line(reference);
+  EXPECT_TRUE(files_in_work().empty());
+  const Outcome ok = run(kSmallRun + " --keep-out 0.5,0.5,0.8,0.1 -o X.stl");
+  EXPECT_EQ(ok.exit_code, 0) << ok.err;
+}
+
 TEST_F(Cli, OutputInAMissingDirectoryFailsBeforeRunning) {
   const Outcome o = run(kSmallRun + " -o no-such-dir/X.stl --report X.json");
   EXPECT_EQ(o.exit_code, 1);

@@ -61,6 +61,11 @@ FastSolver::FastSolver(const NarrowBand& band, const Surface& surface, const Mod
   set_stabilisation(1.0);
 }
 
+void FastSolver::set_mean_field(std::vector<double> phi_bar) {
+  if (phi_bar.size() != band_.size()) throw std::invalid_argument("one mean concentration per band voxel");
+  mean_field_ = std::move(phi_bar);
+}
+
 void FastSolver::set_stabilisation(double s) {
   s_ = std::max({s, options_.min_stabilisation, smallest_real_stabilisation(model_, dt_)});
   const Shifts z = shifts_for(model_, dt_, s_);
@@ -69,9 +74,9 @@ void FastSolver::set_stabilisation(double s) {
 }
 
 std::size_t FastSolver::memory_bytes() const {
-  return multigrid_.memory_bytes() +
-         (extended_.capacity() + rhs_.capacity() + y_.capacity() + old_.capacity() + previous_.capacity()) *
-             sizeof(double);
+  return multigrid_.memory_bytes() + (extended_.capacity() + rhs_.capacity() + y_.capacity() +
+                                      old_.capacity() + previous_.capacity() + mean_field_.capacity()) *
+                                         sizeof(double);
 }
 
 StepReport FastSolver::step(std::vector<double>& phi) {
@@ -108,7 +113,8 @@ StepReport FastSolver::solve_step(std::span<const double> phi_old, std::vector<d
   band_.fill_ghosts(extended_);
   apply_laplacian(band_, extended_, rhs_);
   tbb::parallel_for(std::size_t{0}, n, [&](std::size_t v) {
-    rhs_[v] = (phi_old[v] + dt_ * model_.alpha * model_.phi_bar + dt_ * rhs_[v]) / (eps2 * dt_);
+    const double phi_bar = mean_field_.empty() ? model_.phi_bar : mean_field_[v];
+    rhs_[v] = (phi_old[v] + dt_ * model_.alpha * phi_bar + dt_ * rhs_[v]) / (eps2 * dt_);
   });
 
   // Initial guesses: phi = 2 phi^n - phi^{n-1} (late in a run the pattern moves slowly, so this is

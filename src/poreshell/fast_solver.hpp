@@ -38,6 +38,9 @@ class FastSolver final : public TimeStepper {
   StepReport step(std::vector<double>& phi) override;
   std::string name() const override { return "fast"; }
 
+  // A mean concentration per band voxel instead of the model's phi_bar (solid zones: rims, keep-outs).
+  void set_mean_field(std::vector<double> phi_bar);
+
   // The stabilisation and shifts of the last step.
   double stabilisation() const { return s_; }
   double shift_small() const { return z1_; }
@@ -58,6 +61,7 @@ class FastSolver final : public TimeStepper {
   BandMultigrid multigrid_;
   std::vector<double> extended_;        // band + ghosts scratch
   std::vector<double> rhs_, y_;         // y = (z2 - L) phi^{n+1}
+  std::vector<double> mean_field_;      // empty: the model's phi_bar everywhere
   std::vector<double> old_, previous_;  // phi^n and phi^{n-1}: the initial guess 2 phi^n - phi^{n-1}
   int steps_ = 0, repeated_ = 0;
 };

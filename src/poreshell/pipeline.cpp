@@ -21,6 +21,7 @@
 #include "poreshell/point_io.hpp"
 #include "poreshell/point_segmentation.hpp"
 #include "poreshell/shell.hpp"
+#include "poreshell/solid_zones.hpp"
 #include "poreshell/units.hpp"
 #include "poreshell/winding_number.hpp"
 
@@ -205,6 +206,12 @@ void validate(const PipelineConfig& c) {
     throw InputError("unknown --point-route '" + c.point_route + "': use direct or paper");
   if (!c.points.empty() && !c.mesh.empty()) throw InputError("give either --mesh or --points, not both");
   if (!(c.max_memory_gb >= 0.0)) throw InputError("--max-memory must be a positive number of GB");
+  if (!(c.rim_mm >= 0.0)) throw InputError("--rim must be a width >= 0 in mm");
+  for (const auto& k : c.keep_out)
+    if (!(k[3] > 0.0) || !std::isfinite(k[0] + k[1] + k[2] + k[3]))
+      throw InputError("--keep-out takes X,Y,Z,R in mm with a radius R > 0");
+  if ((c.rim_mm > 0.0 || !c.keep_out.empty()) && c.solver != "fast")
+    throw InputError("--rim and --keep-out act through the fast solver: drop --solver reference");
   if (c.solver != "fast" && c.solver != "reference")
     throw InputError("unknown --solver '" + c.solver + "': use fast or reference");
   if (!(c.epsilon_m > 0.0)) throw InputError("--epsilon-m must be positive (the paper uses 4)");
@@ -326,12 +333,30 @@ PipelineResult run_pipeline(const PipelineConfig& config) {
   result.model = ModelParameters{config.alpha, epsilon_m(config.epsilon_m, grid.h()), config.phi_bar};
   result.dt = config.dt_in_h * grid.h();
   t = std::chrono::steady_clock::now();
+  // Solid zones (rims along open boundaries, keep-out spheres) as a local mean concentration.
+  const double grid_per_mm = placed.input.scale / millimetres_per_unit(config.units);
+  std::vector<double> mean_field, solid_weight;
+  if (config.rim_mm > 0.0 || !config.keep_out.empty()) {
+    std::vector<KeepOutSphere> spheres;
+    for (const auto& k : config.keep_out)
+      spheres.push_back({(Vec3(k[0], k[1], k[2]) / millimetres_per_unit(config.units) - placed.input_center) *
+                                 placed.input.scale +
+                             Vec3::Constant(0.5),
+                         k[3] * grid_per_mm});
+    const std::vector<Segment> boundary =
+        placed.mesh ? boundary_segments(*placed.mesh) : std::vector<Segment>{};
+    // The ramp lets the pattern meet the zone over about one interface width.
+    solid_weight =
+        solid_zone_weight(band, boundary, config.rim_mm * grid_per_mm, spheres, 2.0 * result.model.epsilon);
+    mean_field = mean_concentration_field(solid_weight, config.phi_bar);
+  }
   std::unique_ptr<TimeStepper> solver;
   if (config.solver == "reference") {
     solver = std::make_unique<ReferenceSolver>(band, result.model, result.dt, config.inner);
     result.inner_iteration = to_string(config.inner.method);
   } else {
     auto fast = std::make_unique<FastSolver>(band, *placed.surface, result.model, result.dt, config.fast);
+    if (!mean_field.empty()) fast->set_mean_field(mean_field);
     result.solver_bytes = fast->memory_bytes();
     solver = std::move(fast);
     result.inner_iteration = "multigrid";
@@ -342,6 +367,8 @@ PipelineResult run_pipeline(const PipelineConfig& config) {
   std::optional<EnergyFunctional> energy;
   if (config.energy_every > 0) energy.emplace(band, result.model);
   std::vector<double> phi = random_initial_condition(band, config.phi_bar, config.amplitude, config.seed);
+  for (std::size_t v = 0; v < solid_weight.size(); ++v)  // solid zones start solid
+    phi[v] = (1.0 - solid_weight[v]) * phi[v] + solid_weight[v] * -1.0;
   RunOptions run_options;
   run_options.max_steps = config.max_steps;
   run_options.tolerance = config.tolerance;

@@ -27,11 +27,13 @@ struct PipelineConfig {
   int resolution = 131;          // grid points along the longest side (the paper's N)
   double voxel_size = 0.0;       // h in millimetres; when > 0 it sets the resolution instead
   double max_memory_gb = 0.0;    // refuse runs estimated to need more; 0: the memory available now
-  std::string units = "mm";      // unit of the input's coordinates: m | cm | mm | inch; outputs are in mm
-  double alpha = 1400.0;         // nonlocal strength alpha
-  double epsilon_m = 4.0;        // m in epsilon_m = m h / (2 sqrt 2 atanh 0.9)
-  double dt_in_h = 100.0;        // time step in units of h
-  double tolerance = 1e-3;       // stop when e_c (RMS over the band) < tolerance
+  double rim_mm = 0.0;           // solid rim of this width along the input mesh's open boundary
+  std::vector<std::array<double, 4>> keep_out;  // solid spheres: centre x, y, z and radius, in mm
+  std::string units = "mm";  // unit of the input's coordinates: m | cm | mm | inch; outputs are in mm
+  double alpha = 1400.0;     // nonlocal strength alpha
+  double epsilon_m = 4.0;    // m in epsilon_m = m h / (2 sqrt 2 atanh 0.9)
+  double dt_in_h = 100.0;    // time step in units of h
+  double tolerance = 1e-3;   // stop when e_c (RMS over the band) < tolerance
   int max_steps = 2000;
   std::uint64_t seed = 1;
   double phi_bar = -0.3;   // mean concentration
