@@ -66,7 +66,7 @@ void check_memory(const PipelineConfig& c, const Surface& surface, const Box& do
   double voxels = 0.0;
   try {
     voxels = static_cast<double>(build_band(surface, coarse).size()) * std::pow(coarse.h() / fine_h, 2);
-  } catch (const InputError&) {
+  } catch (const std::exception&) {
     return;  // no estimate on this grid: the run itself will say what is wrong
   }
   const double needed = voxels * kPeakBytesPerBandVoxel;
