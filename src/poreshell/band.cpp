@@ -26,9 +26,7 @@ struct LevelSetSample {
   Vec3 gradient;
 };
 
-LevelSetSample sample_level_set(const Surface& surface, const Grid& grid, const Coord& c) {
-  const Vec3 x = grid.position(c);
-  const double h = grid.h();
+LevelSetSample sample_level_set(const Surface& surface, const Vec3& x, double h) {
   Vec3 g;
   for (int a = 0; a < 3; ++a) {
     Vec3 e = Vec3::Zero();
@@ -112,13 +110,42 @@ std::vector<ScannedVoxel> scan_band(const Surface& surface, const Grid& grid, do
 
 }  // namespace
 
-Vec3 closest_point_at(const Surface& surface, const Grid& grid, const Coord& c, ClosestPointRule rule) {
+std::optional<Vec3> closest_point_at(const Surface& surface, const Vec3& x, double h, ClosestPointRule rule) {
   if (rule == ClosestPointRule::exact)
-    if (auto cp = surface.closest_point(grid.position(c))) return *cp;
-  const LevelSetSample s = sample_level_set(surface, grid, c);
+    if (auto cp = surface.closest_point(x)) return cp;
+  const LevelSetSample s = sample_level_set(surface, x, h);
   const double g2 = s.gradient.squaredNorm();
-  if (!(g2 > 0.0)) throw InputError("the distance function has no gradient at a band or ghost point");
-  return grid.position(c) - s.gradient * (s.psi / g2);
+  if (!(g2 > 0.0)) return std::nullopt;
+  return Vec3(x - s.gradient * (s.psi / g2));
+}
+
+Vec3 closest_point_at(const Surface& surface, const Grid& grid, const Coord& c, ClosestPointRule rule) {
+  const std::optional<Vec3> cp = closest_point_at(surface, grid.position(c), grid.h(), rule);
+  if (!cp) throw InputError("the distance function has no gradient at a band or ghost point");
+  return *cp;
+}
+
+PointStencil interpolation_stencil(const NarrowBand& band, const Vec3& p) {
+  const Vec3 q = band.grid().to_index_space(p);
+  const Coord base{static_cast<int>(std::floor(q.x())), static_cast<int>(std::floor(q.y())),
+                   static_cast<int>(std::floor(q.z()))};
+  const Vec3 t = q - Vec3(base.i, base.j, base.k);
+  PointStencil s;
+  for (int c = 0; c < 8; ++c) {
+    const int di = c & 1, dj = (c >> 1) & 1, dk = (c >> 2) & 1;
+    const double w = (di ? t.x() : 1 - t.x()) * (dj ? t.y() : 1 - t.y()) * (dk ? t.z() : 1 - t.z());
+    const std::int64_t idx = band.find({base.i + di, base.j + dj, base.k + dk});
+    if (idx < 0) {
+      s.complete = s.complete && w == 0.0;
+      continue;
+    }
+    s.corner[c] = static_cast<std::int32_t>(idx);
+    s.weight[c] = w;
+    s.present_weight += w;
+  }
+  if (s.present_weight > 0.0)
+    for (double& w : s.weight) w /= s.present_weight;
+  return s;
 }
 
 std::int64_t NarrowBand::find(const Coord& c) const {

@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -83,9 +84,28 @@ class NarrowBand {
   BandStats stats_;
 };
 
-// Closest point on `surface` of grid point c: exact where the rule and the surface allow, else the
-// paper's formula cp = x - grad_h psi / |grad_h psi|^2 psi.
+// Closest point on `surface` of x: exact where the rule and the surface allow, else the paper's formula
+// cp = x - grad_h psi / |grad_h psi|^2 psi with central differences of step h; nothing where that
+// gradient vanishes.
+std::optional<Vec3> closest_point_at(const Surface& surface, const Vec3& x, double h, ClosestPointRule rule);
+// The same for grid point c (step: the grid's h); throws InputError where the gradient vanishes.
 Vec3 closest_point_at(const Surface& surface, const Grid& grid, const Coord& c, ClosestPointRule rule);
+
+// Trilinear interpolation of band values at a point p: the 8 corners of p's cell. Corners that are not
+// band voxels (rare near the band's edge: its rule uses the discrete gradient) get weight 0 and the
+// others are renormalised; present_weight is their weight before that (1: all there, 0: none).
+struct PointStencil {
+  std::array<std::int32_t, 8> corner{};  // band indices
+  std::array<double, 8> weight{};
+  double present_weight = 0.0;
+  bool complete = true;  // no corner of nonzero weight was missing
+  double interpolate(std::span<const double> values) const {
+    double v = 0.0;
+    for (int c = 0; c < 8; ++c) v += weight[c] * values[corner[c]];
+    return v;
+  }
+};
+PointStencil interpolation_stencil(const NarrowBand& band, const Vec3& p);
 
 // Builds the band of `surface` on `grid`. Throws InputError if the band would touch the grid's edge
 // or is empty.

@@ -41,26 +41,14 @@ std::vector<Vec3> voxel_closest_points(const NarrowBand& band, const Surface& su
   return cps;
 }
 
-// Trilinear interpolation stencil of `band` at p. Corners that are not band voxels (rare: the band rule
-// uses the discrete gradient) are dropped and the weights renormalised.
-TransferStencil interpolation_stencil(const NarrowBand& band, const Vec3& p) {
-  const Vec3 q = band.grid().to_index_space(p);
-  const Coord base{static_cast<int>(std::floor(q.x())), static_cast<int>(std::floor(q.y())),
-                   static_cast<int>(std::floor(q.z()))};
-  const Vec3 t = q - Vec3(base.i, base.j, base.k);
-  std::array<double, 8> w{};
-  double sum = 0.0;
+// The shared trilinear stencil, stored with float weights (transfers carry corrections only).
+TransferStencil transfer_stencil(const NarrowBand& band, const Vec3& p) {
+  const PointStencil point = interpolation_stencil(band, p);
+  if (!(point.present_weight > 1e-6))
+    throw std::runtime_error("multigrid: a closest point has no band voxel around it");
   TransferStencil s;
-  for (int c = 0; c < 8; ++c) {
-    const int di = c & 1, dj = (c >> 1) & 1, dk = (c >> 2) & 1;
-    const std::int64_t idx = band.find({base.i + di, base.j + dj, base.k + dk});
-    if (idx < 0) continue;
-    s.corner[c] = static_cast<std::int32_t>(idx);
-    w[c] = (di ? t.x() : 1 - t.x()) * (dj ? t.y() : 1 - t.y()) * (dk ? t.z() : 1 - t.z());
-    sum += w[c];
-  }
-  if (!(sum > 1e-6)) throw std::runtime_error("multigrid: a closest point has no band voxel around it");
-  for (int c = 0; c < 8; ++c) s.weight[c] = static_cast<float>(w[c] / sum);
+  s.corner = point.corner;
+  for (int c = 0; c < 8; ++c) s.weight[c] = static_cast<float>(point.weight[c]);
   return s;
 }
 
@@ -96,11 +84,11 @@ BandMultigrid::BandMultigrid(const NarrowBand& fine, const Surface& surface, dou
     Level level;
     level.from_finer.resize(coarse->size());
     tbb::parallel_for(std::size_t{0}, coarse->size(),
-                      [&](std::size_t v) { level.from_finer[v] = interpolation_stencil(finer, cps[v]); });
+                      [&](std::size_t v) { level.from_finer[v] = transfer_stencil(finer, cps[v]); });
     Level& finer_level = levels_.back();
     finer_level.to_coarser.resize(finer.size());
     tbb::parallel_for(std::size_t{0}, finer.size(), [&](std::size_t v) {
-      finer_level.to_coarser[v] = interpolation_stencil(*coarse, finer_cps[v]);
+      finer_level.to_coarser[v] = transfer_stencil(*coarse, finer_cps[v]);
     });
     level.owned = std::move(coarse);
     level.band = level.owned.get();

@@ -82,14 +82,9 @@ SpotStats spot_statistics(const NarrowBand& band, std::span<const double> phi, d
   s.count = static_cast<std::int64_t>(s.sizes.size());
   s.area_fraction = band.size() ? static_cast<double>(inside) / static_cast<double>(band.size()) : 0.0;
   if (s.count == 0) return s;
-  double sum = 0.0, sum2 = 0.0;
-  for (auto z : s.sizes) {
-    sum += static_cast<double>(z);
-    sum2 += static_cast<double>(z) * static_cast<double>(z);
-  }
-  s.mean_size = sum / static_cast<double>(s.count);
-  const double var = std::max(0.0, sum2 / static_cast<double>(s.count) - s.mean_size * s.mean_size);
-  s.size_cv = std::sqrt(var) / s.mean_size;
+  const std::vector<double> sizes(s.sizes.begin(), s.sizes.end());
+  s.mean_size = mean_of(sizes);
+  s.size_cv = cv_of(sizes);
 
   std::vector<Vec3> centroids(s.sizes.size(), Vec3::Zero());
   for (std::size_t v = 0; v < label.size(); ++v)

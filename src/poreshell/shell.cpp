@@ -15,20 +15,6 @@ constexpr int kLeafBlock = 8;        // side of the blocks whose points are test
 constexpr int kTopBlock = 64;        // side of the blocks the scan starts from (one task each)
 constexpr double kReachCells = 2.0;  // samples beyond the slab, so every crossing cell is complete
 
-// Closest point of an arbitrary point: exact where the surface gives one, else the paper's formula
-// x - grad psi psi / |grad psi|^2 with central differences of step `h`.
-Vec3 closest_point_of(const Surface& surface, const Vec3& x, double h) {
-  if (auto cp = surface.closest_point(x)) return *cp;
-  Vec3 g;
-  for (int a = 0; a < 3; ++a) {
-    Vec3 e = Vec3::Zero();
-    e[a] = h;
-    g[a] = (surface.distance(x + e) - surface.distance(x - e)) / (2.0 * h);
-  }
-  const double g2 = g.squaredNorm();
-  return g2 > 0.0 ? Vec3(x - g * (surface.distance(x) / g2)) : x;
-}
-
 // Grid points of the block [origin, origin + size)^3 within `reach` of the surface (by the unsigned
 // distance, which is 1-Lipschitz: whole blocks are skipped on one query), in key order per leaf.
 void scan_block(const Surface& surface, const Grid& grid, const Coord& origin, int size, double reach,
@@ -74,25 +60,9 @@ std::string to_string(WallOffset offset) {
 }
 
 double interpolate_band(const NarrowBand& band, std::span<const double> phi, const Vec3& p, bool* complete) {
-  const Vec3 q = band.grid().to_index_space(p);
-  const Coord base{static_cast<int>(std::floor(q.x())), static_cast<int>(std::floor(q.y())),
-                   static_cast<int>(std::floor(q.z()))};
-  const Vec3 t = q - Vec3(base.i, base.j, base.k);
-  double sum = 0.0, weights = 0.0;
-  bool all = true;
-  for (int corner = 0; corner < 8; ++corner) {
-    const int di = corner & 1, dj = (corner >> 1) & 1, dk = (corner >> 2) & 1;
-    const double w = (di ? t.x() : 1 - t.x()) * (dj ? t.y() : 1 - t.y()) * (dk ? t.z() : 1 - t.z());
-    const std::int64_t v = band.find({base.i + di, base.j + dj, base.k + dk});
-    if (v < 0) {
-      all = all && w == 0.0;  // a corner of weight 0 does not matter
-      continue;
-    }
-    sum += w * phi[static_cast<std::size_t>(v)];
-    weights += w;
-  }
-  if (complete != nullptr) *complete = all;
-  return weights > 0.0 ? sum / weights : -1.0;
+  const PointStencil s = interpolation_stencil(band, p);
+  if (complete != nullptr) *complete = s.complete;
+  return s.present_weight > 0.0 ? s.interpolate(phi) : -1.0;
 }
 
 ShellSamples sample_shell(const Surface& surface, const NarrowBand& band, std::span<const double> phi,
@@ -144,7 +114,7 @@ ShellSamples sample_shell(const Surface& surface, const NarrowBand& band, std::s
   std::vector<char> incomplete(out.points.size(), 0);
   tbb::parallel_for(std::size_t{0}, out.points.size(), [&](std::size_t n) {
     const Vec3 x = out.grid.position(out.points[n]);
-    const Vec3 cp = closest_point_of(surface, x, h);
+    const Vec3 cp = closest_point_at(surface, x, h, ClosestPointRule::exact).value_or(x);
     double d = surface.distance(x);
     if (signed_needed && options.side) d = std::copysign(std::abs(d), options.side(x, cp));
     out.wall[n] = std::abs(d - center_offset) - 0.5 * t;
