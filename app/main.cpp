@@ -89,8 +89,15 @@ void print_summary(const poreshell::PipelineConfig& c, const poreshell::Pipeline
              d[1], d[2], r.h, r.h / r.input.scale * r.input.millimetres_per_unit, r.input.units);
   fmt::print("  band     {} voxels, {} ghosts, {:.1f} MiB\n", r.band_voxels, r.ghosts,
              static_cast<double>(r.band_bytes) / (1024.0 * 1024.0));
-  fmt::print("  model    alpha {:g}, epsilon {:.6g} (m = {:g}), phi-bar {:g}, dt {:.6g} ({:g} h)\n",
-             r.model.alpha, r.model.epsilon, c.epsilon_m, r.model.phi_bar, r.dt, c.dt_in_h);
+  if (r.plan)
+    fmt::print(
+        "  model    alpha {:g}, epsilon {:.6g} ({:.3g} h), phi-bar {:g}, dt {:.6g} ({:g} epsilon^2): the "
+        "hole map\n",
+        r.model.alpha, r.model.epsilon, r.model.epsilon / r.h, r.model.phi_bar, r.dt,
+        r.dt / (r.model.epsilon * r.model.epsilon));
+  else
+    fmt::print("  model    alpha {:g}, epsilon {:.6g} (m = {:g}), phi-bar {:g}, dt {:.6g} ({:g} h)\n",
+               r.model.alpha, r.model.epsilon, c.epsilon_m, r.model.phi_bar, r.dt, c.dt_in_h);
   fmt::print("  solver   {} ({} inner): {} steps, final e_c {:.3e} {} tol {:g} ({}), {} inner iterations{}\n",
              r.solver_name, r.inner_iteration, r.run.steps, r.run.final_ec,
              r.run.reached_tolerance ? "<" : ">=", c.tolerance,
@@ -118,8 +125,29 @@ void print_summary(const poreshell::PipelineConfig& c, const poreshell::Pipeline
                r.solid.wall_mm, r.solid.offset, r.solid.spacing_mm, r.solid.samples, r.solid.seconds_sample);
   else
     fmt::print("  solid    narrow volume (Fig. 3b), {:.4g} mm thick (2 delta)\n", r.solid.wall_mm);
+  if (r.plan)
+    fmt::print(
+        "  holes    asked {:.4g} mm at {:.4g} mm spacing: alpha {:.4g} /mm^2, epsilon {:.4g} mm, phi-bar "
+        "{:g}, "
+        "h {:.4g} mm, pore level {:.3f}\n",
+        r.plan->diameter, r.plan->spacing, r.plan->alpha, r.plan->epsilon, r.plan->phi_bar,
+        r.h * r.input.millimetres_per_unit / r.input.scale, r.plan->level);
+  if (r.grading)
+    fmt::print(
+        "  grading  diameters {:.3g} to {:.3g} mm asked; {:.1f}% of the surface clamped to {:.3g}-{:.3g} "
+        "mm\n",
+        r.grading->min_diameter, r.grading->max_diameter, 100.0 * r.grading->clamped_fraction,
+        r.grading->clamped_min, r.grading->clamped_max);
   for (const poreshell::MeshOutput& m : r.meshes) {
     const auto& t = m.topology;
+    fmt::print(
+        "  measured {} holes, diameter {:.4g} mm (CV {:.3f}), spacing {:.4g} mm (CV {:.3f}), porosity {:.3f}",
+        m.holes.holes.size(), m.holes.diameter_mean, m.holes.diameter_cv, m.holes.spacing_mean,
+        m.holes.spacing_cv, m.holes.porosity);
+    if (m.wall.probes > 0)
+      fmt::print("; wall {:.4g} mm ({:.4g}-{:.4g}, {} probes)", m.wall.mean, m.wall.min, m.wall.max,
+                 m.wall.probes);
+    fmt::print("\n");
     fmt::print(
         "  output   {} (iso {:g}): {} triangles, {}, {}, Euler characteristic {}, pores from Euler {} vs "
         "{} spots on band\n",
@@ -242,6 +270,36 @@ int run(int argc, char** argv) {
                  "mean concentration φ̄ in eq. (2.1), sets the pore fraction (paper: -0.3)")
       ->type_name("F")
       ->capture_default_str();
+  auto* alpha_option = app.get_option("--alpha");
+  const std::vector<CLI::Option*> model_options{alpha_option, app.get_option("--epsilon-m"),
+                                                app.get_option("--dt-h"), app.get_option("--phi-bar"),
+                                                app.get_option("--iso")};
+  std::vector<CLI::Option*> hole_options{
+      app.add_option(
+             "--hole-diameter", config.holes.diameter,
+             "hole diameter in mm; sets alpha, epsilon, phi-bar, the time step, the pore level and the "
+             "voxel size (docs/printing.md)")
+          ->type_name("MM")
+          ->check(number_above(0.0, false)),
+      app.add_option("--spacing", config.holes.spacing,
+                     "hole centre spacing in mm (default with --hole-diameter: diameter / 0.6)")
+          ->type_name("MM")
+          ->check(number_above(0.0, false)),
+      app.add_option("--porosity", config.holes.porosity, "open share of the surface, instead of --spacing")
+          ->type_name("F")
+          ->check(number_above(0.0, false))};
+  for (CLI::Option* hole : hole_options)
+    for (CLI::Option* model : model_options) hole->excludes(model);
+  std::string grade;
+  app.add_option("--grade", grade,
+                 "hole-size grading, diameters in mm: axis:x|y|z:D1:D2, line:X,Y,Z:D1:X,Y,Z:D2, "
+                 "radial:X,Y,Z:R:D0 or field:NAME[:D0:D1] (a PLY vertex property)")
+      ->type_name("SPEC");
+  app.add_option("--radius", config.shape_radius,
+                 "size of --shape in mm: sphere radius, torus major radius (default: the unit cube)")
+      ->type_name("MM")
+      ->check(number_above(0.0, false))
+      ->excludes(mesh_option);
   app.add_option("--rim", config.rim_mm, "solid rim of this width (mm) along the mesh's open boundary")
       ->type_name("MM")
       ->check(number_above(0.0, true));
@@ -319,6 +377,7 @@ int run(int argc, char** argv) {
   }
   config.mesh = mesh;
   config.points = points;
+  if (!grade.empty()) config.grade = poreshell::parse_grade(grade);
   check_writable_location(config.output, "the output");
   if (!report.empty()) check_writable_location(report, "the report");
 
@@ -348,6 +407,14 @@ int run(int argc, char** argv) {
         stderr,
         "poreshell: warning: some steps did not reach --inner-tol {:g}; the result may be inaccurate\n",
         config.inner.tolerance);
+  if (result.grading && result.grading->clamped_fraction > 0.0)
+    fmt::print(
+        stderr,
+        "poreshell: warning: the grading asked for holes from {:.3g} to {:.3g} mm; at {:.3g} mm spacing "
+        "they were clamped to {:.3g}-{:.3g} mm on {:.1f}% of the surface (wider holes would merge, "
+        "narrower ones close)\n",
+        result.grading->min_diameter, result.grading->max_diameter, result.plan->spacing,
+        result.grading->clamped_min, result.grading->clamped_max, 100.0 * result.grading->clamped_fraction);
   const poreshell::ModelParameters& m = result.model;
   if (!poreshell::uniform_state_unstable(m.alpha, m.epsilon, m.phi_bar)) {
     const double a = 1.0 - 3.0 * m.phi_bar * m.phi_bar;

@@ -3,6 +3,7 @@
 // (6-connectivity through the band's neighbour table).
 
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -25,5 +26,25 @@ struct SpotStats {
 std::vector<std::int32_t> label_spots(const NarrowBand& band, std::span<const double> phi, double level);
 
 SpotStats spot_statistics(const NarrowBand& band, std::span<const double> phi, double level);
+
+// The pores as a printer sees them: each spot's area on the surface (its band voxels times h^3 over
+// the band's thickness 2 delta) and the diameter of the disc of that area, in the grid's length unit.
+struct Hole {
+  Vec3 centroid = Vec3::Zero();
+  double area = 0.0;
+  double diameter = 0.0;
+};
+
+struct HoleStats {
+  std::vector<Hole> holes;  // the holes counted (see `counted` below), in order of first voxel
+  double diameter_mean = 0.0, diameter_cv = 0.0;
+  double spacing_mean = 0.0, spacing_cv = 0.0;  // centroid to nearest centroid (among all holes)
+  double porosity = 0.0;                        // open share of the surface's area (all holes)
+};
+
+// `counted` (optional) picks the holes that enter the diameter and spacing statistics by centroid,
+// e.g. away from a sheet's open edge where holes are cut; every hole stays a neighbour for spacing.
+HoleStats hole_statistics(const NarrowBand& band, std::span<const double> phi, double level,
+                          const std::function<bool(const Vec3&)>& counted = {});
 
 }  // namespace poreshell

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <optional>
 #include <sstream>
 
@@ -17,6 +18,7 @@
 #include "poreshell/mesh_io.hpp"
 #include "poreshell/mesh_surface.hpp"
 #include "poreshell/mesh_writers.hpp"
+#include "poreshell/placement.hpp"
 #include "poreshell/point_cloud.hpp"
 #include "poreshell/point_io.hpp"
 #include "poreshell/point_segmentation.hpp"
@@ -35,156 +37,8 @@ std::size_t peak_rss_bytes() {
   return static_cast<std::size_t>(usage.ru_maxrss) * 1024;
 }
 
-// Peak bytes of a whole run per band voxel, measured over the bunny scaling series (docs/benchmarks.md:
-// 1.1-1.5 kB, the shell and its mesh included).
-constexpr double kPeakBytesPerBandVoxel = 1300.0;
-
-// MemAvailable from /proc/meminfo, else the physical memory.
-double available_memory_bytes() {
-  std::ifstream meminfo("/proc/meminfo");
-  std::string key;
-  double kib = 0.0;
-  std::string unit;
-  while (meminfo >> key >> kib >> unit)
-    if (key == "MemAvailable:") return kib * 1024.0;
-  return static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE));
-}
-
-// Refuses, before anything large is allocated, a run whose band would not fit in memory. The band is
-// counted on a grid 8 times coarser (cheap: 1/64 of the voxels) and scaled by (h_coarse / h)^2, since a
-// surface's band grows like its area over h^2.
-void check_memory(const PipelineConfig& c, const Surface& surface, const Box& domain, int resolution,
-                  double h_mm) {
-  const double limit = c.max_memory_gb > 0.0 ? c.max_memory_gb * 1e9 : available_memory_bytes();
-  const int coarse_points = (resolution - 1) / 8 + 1;
-  if (coarse_points < 17) return;  // a small run: the estimate would be coarser than the run itself
-  const double fine_h = (domain.max - domain.min).maxCoeff() / (resolution - 1);
-  const double coarse_h = 8.0 * fine_h;
-  Box padded{domain.min - Vec3::Constant(4 * coarse_h), domain.max + Vec3::Constant(4 * coarse_h)};
-  const Grid coarse = Grid::fitted(
-      padded, static_cast<int>(std::lround((padded.max - padded.min).maxCoeff() / coarse_h)) + 1);
-  double voxels = 0.0;
-  try {
-    voxels = static_cast<double>(build_band(surface, coarse).size()) * std::pow(coarse.h() / fine_h, 2);
-  } catch (const std::exception&) {
-    return;  // no estimate on this grid: the run itself will say what is wrong
-  }
-  const double needed = voxels * kPeakBytesPerBandVoxel;
-  if (needed <= limit) return;
-  const double shrink = std::sqrt(limit / needed);
-  std::ostringstream message;
-  message.precision(3);
-  message << "this run needs about " << needed / 1e9 << " GB (about " << voxels / 1e6
-          << " million band voxels at h = " << h_mm << " mm), more than the " << limit / 1e9 << " GB "
-          << (c.max_memory_gb > 0.0 ? "allowed by --max-memory" : "available") << ": use --resolution "
-          << static_cast<int>(1 + (resolution - 1) * shrink) << " or less, or --voxel-size " << h_mm / shrink
-          << " mm or more";
-  throw InputError(message.str());
-}
-
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-// Grid cells between a mesh's bounding box and the grid's edge: the band (delta = 1.9 h) and its ghosts
-// (one more cell) must stay inside the grid.
-constexpr int kMeshPaddingCells = 4;
-
-// The surface in grid coordinates. Meshes are scaled into the paper's frame: the grid's longest side
-// has length 1, h = 1/(N - 1), so the paper's alpha, eps_m and dt = K h mean the same for any model;
-// `to_input` maps results back to the file's units.
-struct PlacedSurface {
-  std::unique_ptr<Surface> surface;
-  Box domain;
-  InputSummary input;
-  Vec3 input_center = Vec3::Zero();  // x_input = (x_grid - 0.5) / scale + input_center
-  int resolution = 0;                // grid points along the longest side
-  std::optional<TriangleMesh> mesh;  // a mesh input in grid coordinates: the shell's inside/outside test
-};
-
-// Grid points along the longest side: --resolution, or from --voxel-size over the longest extent.
-int resolution_for(const PipelineConfig& c, double longest_extent, int padding_cells) {
-  if (!(c.voxel_size > 0.0)) return c.resolution;
-  const double voxel_size = c.voxel_size / millimetres_per_unit(c.units);  // in the input's units
-  const double n = std::round(longest_extent / voxel_size) + 1 + 2 * padding_cells;
-  if (n > 2048)
-    throw InputError("--voxel-size needs " + std::to_string(static_cast<long long>(n)) +
-                     " grid points along the longest side (at most 2048): choose a larger voxel size");
-  if (n < 17) throw InputError("--voxel-size is too coarse for this model: choose a smaller voxel size");
-  return static_cast<int>(n);
-}
-
-// Scales and centres `vertices` (a mesh's or a point cloud's) into the paper's frame, with padding, and
-// sets the placement's resolution, scale, centre and domain.
-void fit_to_unit_grid(std::vector<Vec3>& vertices, const PipelineConfig& c, const std::string& what,
-                      PlacedSurface& placed) {
-  Box box{vertices.front(), vertices.front()};
-  for (const Vec3& v : vertices) {
-    box.min = box.min.cwiseMin(v);
-    box.max = box.max.cwiseMax(v);
-  }
-  const double longest = (box.max - box.min).maxCoeff();
-  if (!(longest > 0.0)) throw InputError(what + " has zero size");
-  placed.resolution = resolution_for(c, longest, kMeshPaddingCells);
-  const double h = 1.0 / (placed.resolution - 1);
-  const double scale = (1.0 - 2 * kMeshPaddingCells * h) / longest;
-  placed.input.scale = scale;
-  placed.input_center = 0.5 * (box.min + box.max);
-  for (Vec3& v : vertices) v = (v - placed.input_center) * scale + Vec3::Constant(0.5);
-  const Vec3 half = 0.5 * scale * (box.max - box.min) + Vec3::Constant(kMeshPaddingCells * h);
-  placed.domain = Box{Vec3::Constant(0.5) - half, Vec3::Constant(0.5) + half};
-}
-
-// A point cloud: splats (direct) or the paper's densify-and-segment route, on the grid it will get.
-void place_points(const PipelineConfig& c, PlacedSurface& placed) {
-  PointCloud cloud = read_point_cloud(c.points);
-  placed.input.kind = "points";
-  placed.input.name = c.points.string();
-  placed.input.vertices = static_cast<std::int64_t>(cloud.points.size());
-  placed.input.triangles = static_cast<std::int64_t>(cloud.triangles.size());
-  placed.input.point_route = c.point_route;
-  fit_to_unit_grid(cloud.points, c, "the point cloud '" + c.points.string() + "'", placed);
-  if (c.point_route == "direct") {
-    placed.surface = std::make_unique<SplatSurface>(std::move(cloud.points));
-    return;
-  }
-  SegmentationStats stats;
-  placed.surface = segment_point_cloud(cloud.points, cloud.triangles,
-                                       Grid::fitted(placed.domain, placed.resolution), {}, &stats);
-  placed.input.densified_points = stats.points;
-  placed.input.segmentation_iterations = stats.iterations;
-}
-
-PlacedSurface place_surface(const PipelineConfig& c) {
-  PlacedSurface placed;
-  if (!c.points.empty()) {
-    place_points(c, placed);
-    return placed;
-  }
-  if (c.mesh.empty()) {
-    placed.surface = make_paper_shape(c.shape);
-    placed.domain = Box{Vec3::Zero(), Vec3::Ones()};
-    placed.input.kind = "shape";
-    placed.input.name = c.shape;
-    placed.input.euler_characteristic = c.shape == "torus" ? 0 : 2;
-    placed.input_center = Vec3::Constant(0.5);  // the shapes are already in grid coordinates
-    placed.resolution = resolution_for(c, 1.0, 0);
-    return placed;
-  }
-  MeshInputStats stats;
-  TriangleMesh mesh = read_triangle_mesh(c.mesh, &stats);
-  placed.input = {"mesh",
-                  c.mesh.string(),
-                  stats.vertices,
-                  stats.triangles,
-                  stats.boundary_edges,
-                  stats.dropped_degenerate,
-                  analyze_topology(mesh).euler_characteristic,
-                  1.0};
-  fit_to_unit_grid(mesh.vertices, c, "the mesh '" + c.mesh.string() + "'", placed);
-  placed.surface = std::make_unique<MeshSurface>(mesh);
-  placed.mesh = std::move(mesh);
-  return placed;
 }
 
 void validate(const PipelineConfig& c) {
@@ -228,33 +82,50 @@ void validate(const PipelineConfig& c) {
   }
   // The model's own checks (epsilon is set from the grid later; any positive value passes here).
   poreshell::validate(ModelParameters{c.alpha, 1.0, c.phi_bar}, c.dt_in_h);
+  if (!(c.shape_radius >= 0.0) || !std::isfinite(c.shape_radius))
+    throw InputError("--radius must be a positive length in millimetres");
+  if (c.shape_radius > 0.0 && (!c.mesh.empty() || !c.points.empty()))
+    throw InputError("--radius sizes a --shape: a mesh or point cloud keeps its own size (see --units)");
+  if (c.shape_radius > 0.0 && c.units != "mm")
+    throw InputError("--units names the unit of an input file: a --shape with --radius is in mm already");
+  if (c.grade && c.holes.empty())
+    throw InputError(
+        "--grade sets hole diameters in mm: add --hole-diameter MM (and --spacing MM or --porosity F)");
   if (c.output.empty()) throw InputError("give an output file with -o OUT.stl");
   check_output_extension(c.output);
 }
 
-// The shell's samples: wall and offset from mm to grid units; the side of a mesh input from its
-// winding number (shapes have a signed distance).
+// Which side of the surface a point lies on, where the wall's offset needs it: a mesh input's winding
+// number (shapes have a signed distance: no function needed).
+struct SideTest {
+  std::optional<WindingNumber> winding;
+  SideFunction side;
+};
+
+void make_side_test(const PipelineConfig& c, const PlacedSurface& placed, double h, SideTest& test) {
+  if (parse_wall_offset(c.offset) == WallOffset::centered || placed.input.kind == "shape") return;
+  if (!placed.mesh)
+    throw InputError(
+        "--offset " + c.offset +
+        " needs a triangle mesh or shape input to tell inside from outside: use --offset centered");
+  test.winding.emplace(*placed.mesh);
+  const double step = 0.25 * h;
+  test.side = [&winding = *test.winding, step](const Vec3& x, const Vec3& cp) {
+    return side_of_surface(winding, x, cp, step);
+  };
+}
+
+// The shell's samples: wall and offset from mm to grid units.
 ShellSamples sample_printable_shell(const PipelineConfig& c, const PlacedSurface& placed,
                                     const NarrowBand& band, std::span<const double> phi,
-                                    PipelineResult& result) {
+                                    const SideFunction& side, PipelineResult& result) {
   const auto start = std::chrono::steady_clock::now();
-  const double mm_per_grid = result.input.millimetres_per_unit / result.input.scale;
+  const double mm_per_grid = placed.mm_per_grid();
   ShellOptions options;
   options.thickness = c.wall > 0.0 ? c.wall / mm_per_grid : 2.0 * BandOptions{}.delta_in_h * band.grid().h();
   options.offset = parse_wall_offset(c.offset);
   options.pattern_length = std::sqrt(2.0) * result.model.epsilon;  // unit slope across the interface
-  std::optional<WindingNumber> winding;
-  if (options.offset != WallOffset::centered && placed.input.kind != "shape") {
-    if (!placed.mesh)
-      throw InputError("--offset " + c.offset +
-                       " needs a triangle mesh or shape input to tell inside from "
-                       "outside: use --offset centered");
-    winding.emplace(*placed.mesh);
-    const double step = 0.25 * band.grid().h();
-    options.side = [&winding, step](const Vec3& x, const Vec3& cp) {
-      return side_of_surface(*winding, x, cp, step);
-    };
-  }
+  options.side = side;
   ShellSamples samples = sample_shell(*placed.surface, band, phi, options);
   SolidSummary& s = result.solid;
   s.wall_mm = options.thickness * mm_per_grid;
@@ -263,6 +134,81 @@ ShellSamples sample_printable_shell(const PipelineConfig& c, const PlacedSurface
   s.incomplete_stencils = samples.incomplete_stencils;
   s.seconds_sample = seconds_since(start);
   return samples;
+}
+
+// Probes across the shell's wall (mm) at up to `count` band voxels well inside the solid (phi at least
+// 0.5 below the pore level, so about an interface width from any pore), spread by band order.
+std::vector<WallProbe> wall_probes(const PlacedSurface& placed, const NarrowBand& band,
+                                   std::span<const double> phi, double iso, double wall_mm, WallOffset offset,
+                                   const SideFunction& side) {
+  std::vector<WallProbe> probes;
+  const std::size_t count = 256, stride = std::max<std::size_t>(1, band.size() / (4 * count));
+  const double h = band.grid().h();
+  for (std::size_t v = 0; v < band.size() && probes.size() < count; v += stride) {
+    if (!(phi[v] < iso - 0.5)) continue;
+    const Vec3 x = band.grid().position(band.voxels()[v]);
+    const std::optional<Vec3> cp = closest_point_at(*placed.surface, x, h, ClosestPointRule::exact);
+    if (!cp || (x - *cp).norm() < 0.25 * h) continue;  // the normal is only defined off the surface
+    Vec3 n = (x - *cp).normalized();
+    if (offset != WallOffset::centered) {
+      const double outside = side ? side(x, *cp) : placed.surface->distance(x);
+      if (outside == 0.0) continue;
+      if (outside < 0.0) n = -n;
+    }
+    const double centre = offset == WallOffset::centered ? 0.0 : (offset == WallOffset::outside ? 0.5 : -0.5);
+    probes.push_back({placed.to_mm(*cp) + centre * wall_mm * n, n});
+  }
+  return probes;
+}
+
+// The model on this grid: the hole map's (eps from the spacing, dt from eps^2) or the paper's
+// (eps_m from h, dt = K h).
+void set_model(const PipelineConfig& c, const PlacedSurface& placed, const Grid& grid,
+               PipelineResult& result) {
+  if (!result.plan) {
+    result.model = ModelParameters{c.alpha, epsilon_m(c.epsilon_m, grid.h()), c.phi_bar};
+    result.dt = c.dt_in_h * grid.h();
+    return;
+  }
+  const HoleCalibration& cal = hole_calibration();
+  const double eps = result.plan->epsilon / placed.mm_per_grid();
+  result.model = ModelParameters{cal.kappa / (eps * eps), eps, result.plan->phi_bar};
+  result.dt = cal.dt_per_epsilon_squared * eps * eps;
+}
+
+// Hole statistics at one level in millimetres.
+HoleStats holes_in_mm(const NarrowBand& band, std::span<const double> phi, double level,
+                      const PlacedSurface& placed) {
+  const double mm_per_grid = placed.mm_per_grid();
+  HoleStats s = hole_statistics(band, phi, level);
+  for (Hole& hole : s.holes) {
+    hole.centroid = placed.to_mm(hole.centroid);
+    hole.area *= mm_per_grid * mm_per_grid;
+    hole.diameter *= mm_per_grid;
+  }
+  s.diameter_mean *= mm_per_grid;
+  s.spacing_mean *= mm_per_grid;
+  return s;
+}
+
+// A voxel size up to this factor above the hole map's keeps the pattern's interface resolved
+// (eps >= 0.77 h); coarser grids change the spacing.
+constexpr double kCoarsestVoxelPerPlanned = 1.25;
+
+// Hole-size grading: phi shifted per voxel so that {phi > level} has the graded holes.
+void grade_holes(const PipelineConfig& c, const PlacedSurface& placed, const NarrowBand& band,
+                 std::vector<double>& phi, PipelineResult& result) {
+  Box bounds{Vec3::Constant(std::numeric_limits<double>::infinity()),
+             Vec3::Constant(-std::numeric_limits<double>::infinity())};
+  std::vector<Vec3> positions(band.size());
+  for (std::size_t v = 0; v < band.size(); ++v) {
+    positions[v] = placed.to_mm(band.grid().position(band.voxels()[v]));
+    bounds.min = bounds.min.cwiseMin(positions[v]);
+    bounds.max = bounds.max.cwiseMax(positions[v]);
+  }
+  const PatternPlan& plan = *result.plan;
+  const auto diameter_at = graded_diameter(*c.grade, bounds, plan.diameter);
+  result.grading = apply_grading(phi, positions, plan.spacing, plan.level, diameter_at);
 }
 
 // What a slicer needs, checked on the mesh as it will be written; throws naming every failed check.
@@ -301,25 +247,37 @@ TriangleMesh narrow_volume_mesh(const NarrowBand& band, std::span<const double> 
   return extract_isosurface(field, iso);
 }
 
-PipelineResult run_pipeline(const PipelineConfig& config) {
-  validate(config);
+PipelineResult run_pipeline(const PipelineConfig& given) {
+  validate(given);
   const auto start = std::chrono::steady_clock::now();
   PipelineResult result;
   result.threads =
       static_cast<int>(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+  PipelineConfig config = given;
+  if (!config.holes.empty()) {
+    result.plan = plan_pattern(config.holes);
+    if (config.voxel_size <= 0.0) {
+      config.voxel_size = result.plan->voxel_size;
+    } else if (config.voxel_size > kCoarsestVoxelPerPlanned * result.plan->voxel_size) {
+      throw InputError("--voxel-size " + std::to_string(config.voxel_size) +
+                       " mm is too coarse for holes at " + std::to_string(result.plan->spacing) +
+                       " mm spacing: use at most " +
+                       std::to_string(kCoarsestVoxelPerPlanned * result.plan->voxel_size) +
+                       " mm, or leave --voxel-size out (" + std::to_string(result.plan->voxel_size) + " mm)");
+    }
+    config.iso_levels = {result.plan->level};
+    config.phi_bar = result.plan->phi_bar;
+  }
 
   auto t = std::chrono::steady_clock::now();
   const PlacedSurface placed = place_surface(config);
   result.input = placed.input;
-  result.input.units = config.units;
-  result.input.millimetres_per_unit = millimetres_per_unit(config.units);
   result.solid.mode = config.mode;
   result.seconds_input = seconds_since(t);
   const Grid grid = Grid::fitted(placed.domain, placed.resolution);
   result.grid_dims = grid.dims();
   result.h = grid.h();
-  check_memory(config, *placed.surface, placed.domain, placed.resolution,
-               grid.h() / placed.input.scale * millimetres_per_unit(config.units));
+  check_memory(config, placed, grid.h() * placed.mm_per_grid());
 
   t = std::chrono::steady_clock::now();
   const NarrowBand band = build_band(*placed.surface, grid);
@@ -330,25 +288,21 @@ PipelineResult run_pipeline(const PipelineConfig& config) {
   result.band_stats = band.stats();
   result.band_bytes = band.memory_bytes();
 
-  result.model = ModelParameters{config.alpha, epsilon_m(config.epsilon_m, grid.h()), config.phi_bar};
-  result.dt = config.dt_in_h * grid.h();
+  set_model(config, placed, grid, result);
   t = std::chrono::steady_clock::now();
   // Solid zones (rims along open boundaries, keep-out spheres) as a local mean concentration.
-  const double grid_per_mm = placed.input.scale / millimetres_per_unit(config.units);
+  const double grid_per_mm = 1.0 / placed.mm_per_grid();
   std::vector<double> mean_field, solid_weight;
   if (config.rim_mm > 0.0 || !config.keep_out.empty()) {
     std::vector<KeepOutSphere> spheres;
     for (const auto& k : config.keep_out)
-      spheres.push_back({(Vec3(k[0], k[1], k[2]) / millimetres_per_unit(config.units) - placed.input_center) *
-                                 placed.input.scale +
-                             Vec3::Constant(0.5),
-                         k[3] * grid_per_mm});
+      spheres.push_back({placed.from_mm(Vec3(k[0], k[1], k[2])), k[3] * grid_per_mm});
     const std::vector<Segment> boundary =
         placed.mesh ? boundary_segments(*placed.mesh) : std::vector<Segment>{};
     // The ramp lets the pattern meet the zone over about one interface width.
     solid_weight =
         solid_zone_weight(band, boundary, config.rim_mm * grid_per_mm, spheres, 2.0 * result.model.epsilon);
-    mean_field = mean_concentration_field(solid_weight, config.phi_bar);
+    mean_field = mean_concentration_field(solid_weight, result.model.phi_bar);
   }
   std::unique_ptr<TimeStepper> solver;
   if (config.solver == "reference") {
@@ -366,7 +320,8 @@ PipelineResult run_pipeline(const PipelineConfig& config) {
   // --energy-every 0 skips it for large runs.
   std::optional<EnergyFunctional> energy;
   if (config.energy_every > 0) energy.emplace(band, result.model);
-  std::vector<double> phi = random_initial_condition(band, config.phi_bar, config.amplitude, config.seed);
+  std::vector<double> phi =
+      random_initial_condition(band, result.model.phi_bar, config.amplitude, config.seed);
   for (std::size_t v = 0; v < solid_weight.size(); ++v)  // solid zones start solid
     phi[v] = (1.0 - solid_weight[v]) * phi[v] + solid_weight[v] * -1.0;
   RunOptions run_options;
@@ -386,13 +341,15 @@ PipelineResult run_pipeline(const PipelineConfig& config) {
 
   // Build and check every mesh before writing any, so a failed check leaves no output at all.
   t = std::chrono::steady_clock::now();
+  if (config.grade) grade_holes(config, placed, band, phi, result);
+  SideTest side;
   std::optional<ShellSamples> shell;
   if (config.mode == "shell") {
-    shell = sample_printable_shell(config, placed, band, phi, result);
+    make_side_test(config, placed, grid.h(), side);
+    shell = sample_printable_shell(config, placed, band, phi, side.side, result);
   } else {
-    const double mm_per_grid = result.input.millimetres_per_unit / result.input.scale;
-    result.solid.wall_mm = 2.0 * BandOptions{}.delta_in_h * grid.h() * mm_per_grid;
-    result.solid.spacing_mm = grid.h() * mm_per_grid;
+    result.solid.wall_mm = 2.0 * BandOptions{}.delta_in_h * grid.h() * placed.mm_per_grid();
+    result.solid.spacing_mm = grid.h() * placed.mm_per_grid();
   }
   result.solid.offset = config.offset;
   // The unperforated solid gives the reference Euler characteristic: each pore is one tunnel, so
@@ -409,13 +366,17 @@ PipelineResult run_pipeline(const PipelineConfig& config) {
     out.iso = iso;
     out.path = output_path_for_level(config.output, iso, several);
     meshes.push_back(shell ? shell_mesh(*shell, iso) : narrow_volume_mesh(band, phi, iso));
-    for (Vec3& v : meshes.back().vertices)  // back to the input's frame, then to millimetres
-      v = ((v - Vec3::Constant(0.5)) / result.input.scale + placed.input_center) *
-          result.input.millimetres_per_unit;
+    for (Vec3& v : meshes.back().vertices) v = placed.to_mm(v);
     out.topology = analyze_topology(meshes.back());
     out.spots_at_iso = spot_statistics(band, phi, iso).count;
     out.pores_from_euler = (result.unperforated_euler - out.topology.euler_characteristic) / 2;
+    out.holes = holes_in_mm(band, phi, iso, placed);
     check_printable(out.topology, iso);
+    if (shell)
+      out.wall = measure_wall(meshes.back(),
+                              wall_probes(placed, band, phi, iso, result.solid.wall_mm,
+                                          parse_wall_offset(config.offset), side.side),
+                              4.0 * result.solid.wall_mm);
     result.meshes.push_back(out);
   }
   for (std::size_t i = 0; i < meshes.size(); ++i) write_mesh(result.meshes[i].path, meshes[i]);

@@ -12,17 +12,21 @@
 
 #include "poreshell/band.hpp"
 #include "poreshell/fast_solver.hpp"
+#include "poreshell/grading.hpp"
+#include "poreshell/hole_map.hpp"
 #include "poreshell/mesh.hpp"
 #include "poreshell/model.hpp"
 #include "poreshell/pattern.hpp"
 #include "poreshell/reference_solver.hpp"
 #include "poreshell/time_stepping.hpp"
+#include "poreshell/wall_measure.hpp"
 
 namespace poreshell {
 
 struct PipelineConfig {
   std::string shape = "sphere";  // sphere | torus (section 3.2, on the unit cube)
-  std::filesystem::path mesh;    // a triangle mesh file instead of a shape (STL, OBJ, PLY, OFF, 3MF)
+  double shape_radius = 0.0;   // mm: the shape at this size (sphere radius, torus major radius); 0: unit cube
+  std::filesystem::path mesh;  // a triangle mesh file instead of a shape (STL, OBJ, PLY, OFF, 3MF)
   std::filesystem::path points;  // a point cloud file instead of a shape (XYZ text, PLY vertices)
   int resolution = 131;          // grid points along the longest side (the paper's N)
   double voxel_size = 0.0;       // h in millimetres; when > 0 it sets the resolution instead
@@ -39,13 +43,17 @@ struct PipelineConfig {
   double phi_bar = -0.3;   // mean concentration
   double amplitude = 0.5;  // phi0 = phi_bar + amplitude * rand, rand uniform in [-1, 1]
   std::vector<double> iso_levels{0.0};
-  std::string solver = "fast";   // fast (docs/solver.md) | reference (the paper's scheme, relaxation)
-  InnerOptions inner;            // reference solver
-  FastOptions fast;              // fast solver
-  int energy_every = 0;          // evaluate the energy (3.2) every K steps and at the end; 0: never
-  std::filesystem::path output;  // .stl .3mf .obj .ply; with several iso levels OUT-isoC.ext per level
-  std::string mode = "shell";    // shell (wall of its own, pores straight through) | narrow-volume (Fig. 3b)
-  double wall = 0.0;             // shell wall thickness in mm; 0: the band's width 2 delta = 3.81 h
+  // Hole size asked for (mm): sets alpha, epsilon, phi_bar, the time step, the pore level and, unless
+  // voxel_size is given, h (hole_map.hpp). Empty: the paper's parameters above.
+  HoleRequest holes;
+  std::optional<GradeSpec> grade;  // hole-size grading (needs `holes`)
+  std::string solver = "fast";     // fast (docs/solver.md) | reference (the paper's scheme, relaxation)
+  InnerOptions inner;              // reference solver
+  FastOptions fast;                // fast solver
+  int energy_every = 0;            // evaluate the energy (3.2) every K steps and at the end; 0: never
+  std::filesystem::path output;    // .stl .3mf .obj .ply; with several iso levels OUT-isoC.ext per level
+  std::string mode = "shell";  // shell (wall of its own, pores straight through) | narrow-volume (Fig. 3b)
+  double wall = 0.0;           // shell wall thickness in mm; 0: the band's width 2 delta = 3.81 h
   std::string offset = "centered";  // shell wall: centered on the surface, inside or outside it
   std::function<void(const StepProgress&)> on_step;
   std::string point_route = "direct";  // --points: direct (splats, no PDE) | paper (densify + eq. 3.3)
@@ -55,6 +63,8 @@ struct MeshOutput {
   double iso = 0.0;
   std::filesystem::path path;
   MeshTopology topology;
+  HoleStats holes;                    // on the band at this level, lengths in mm
+  WallMeasurement wall;               // across the written solid's wall, mm (shell mode)
   std::int64_t spots_at_iso = 0;      // connected components of {phi > iso} on the band
   std::int64_t pores_from_euler = 0;  // (chi of the unperforated solid - chi) / 2
 };
@@ -92,6 +102,8 @@ struct PipelineResult {
   std::size_t band_bytes = 0;
   ModelParameters model;
   double dt = 0.0;
+  std::optional<PatternPlan> plan;        // the hole map's choice, when a hole size was asked for
+  std::optional<GradingSummary> grading;  // when graded
   std::string solver_name;
   std::string inner_iteration;
   RunResult run;

@@ -57,8 +57,8 @@ Box Torus::bounds() const {
 
 std::unique_ptr<Surface> make_paper_shape(const std::string& name) {
   const Vec3 c(0.5, 0.5, 0.5);
-  if (name == "sphere") return std::make_unique<Sphere>(c, 0.3);
-  if (name == "torus") return std::make_unique<Torus>(c, 0.3, 0.15);
+  if (name == "sphere") return std::make_unique<Sphere>(c, kPaperShapeRadius);
+  if (name == "torus") return std::make_unique<Torus>(c, kPaperShapeRadius, 0.5 * kPaperShapeRadius);
   throw InputError("unknown shape '" + name + "': use sphere or torus");
 }
 

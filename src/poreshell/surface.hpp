@@ -57,6 +57,7 @@ class Torus final : public Surface {
 };
 
 // The shapes of section 3.2 on the unit cube [0,1]^3: sphere r = 0.3, torus R = 0.3, r = 0.15.
+inline constexpr double kPaperShapeRadius = 0.3;  // the sphere's radius, the torus's major radius
 std::unique_ptr<Surface> make_paper_shape(const std::string& name);
 
 }  // namespace poreshell

@@ -1,0 +1,24 @@
+#pragma once
+// The wall thickness of a solid as written, measured on its mesh: from a point inside the wall, the
+// distance to the mesh along +n and along -n (sphere tracing on the mesh's exact unsigned distance),
+// summed. What a caliper across the wall would read.
+
+#include <span>
+
+#include "poreshell/mesh.hpp"
+
+namespace poreshell {
+
+struct WallProbe {
+  Vec3 start = Vec3::Zero();    // inside the solid wall
+  Vec3 normal = Vec3::UnitZ();  // unit, across the wall
+};
+
+struct WallMeasurement {
+  std::size_t probes = 0;  // probes that met the surface on both sides
+  double mean = 0.0, min = 0.0, max = 0.0;
+};
+
+WallMeasurement measure_wall(const TriangleMesh& solid, std::span<const WallProbe> probes, double max_length);
+
+}  // namespace poreshell

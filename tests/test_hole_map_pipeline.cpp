@@ -1,0 +1,127 @@
+// The hole map (issue 4, item 3) and grading (item 4) through the whole pipeline: hole diameter and spacing
+// asked in mm come out of the whole pipeline within 15% on a sphere and an open cylinder; impossible requests
+// are refused with the nearest feasible one; graded holes grow along the axis and never merge.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <string>
+
+#include "poreshell/grading.hpp"
+#include "poreshell/pipeline.hpp"
+
+using namespace poreshell;
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path temp_dir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("poreshell-test-holes-" + name);
+  fs::create_directories(dir);
+  return dir;
+}
+
+double relative_error(double measured, double asked) {
+  return std::abs(measured - asked) / asked;
+}
+
+// An open cylinder (no caps) about the z axis, written as OBJ: a sheet with two boundary circles.
+fs::path write_open_cylinder(const fs::path& dir, double radius, double height) {
+  const int segments = 96, rings = 40;
+  const fs::path path = dir / "cylinder.obj";
+  std::ofstream out(path);
+  for (int r = 0; r <= rings; ++r)
+    for (int s = 0; s < segments; ++s) {
+      const double a = 2 * std::numbers::pi * s / segments;
+      out << "v " << radius * std::cos(a) << ' ' << radius * std::sin(a) << ' ' << height * r / rings << '\n';
+    }
+  const auto at = [&](int r, int s) { return 1 + r * segments + s % segments; };
+  for (int r = 0; r < rings; ++r)
+    for (int s = 0; s < segments; ++s) {
+      out << "f " << at(r, s) << ' ' << at(r, s + 1) << ' ' << at(r + 1, s + 1) << '\n';
+      out << "f " << at(r, s) << ' ' << at(r + 1, s + 1) << ' ' << at(r + 1, s) << '\n';
+    }
+  return path;
+}
+
+// Every printed pore is a hole on the band and a tunnel of the written mesh.
+void expect_holes_are_tunnels(const MeshOutput& out) {
+  EXPECT_TRUE(out.topology.closed() && out.topology.manifold() && out.topology.oriented());
+  EXPECT_EQ(out.pores_from_euler, out.spots_at_iso);
+  EXPECT_EQ(static_cast<std::int64_t>(out.holes.holes.size()), out.spots_at_iso);
+}
+
+}  // namespace
+
+TEST(HoleMapPipeline, SphereOfRadius50GivesTheAskedHolesWallAndPores) {
+  PipelineConfig c;
+  c.shape = "sphere";
+  c.shape_radius = 50.0;
+  c.holes = {6.0, 10.0, 0.0};
+  c.wall = 2.0;
+  c.output = temp_dir("sphere") / "sphere.stl";
+  const PipelineResult r = run_pipeline(c);
+  ASSERT_EQ(r.meshes.size(), 1u);
+  const MeshOutput& out = r.meshes.front();
+  EXPECT_LT(relative_error(out.holes.diameter_mean, 6.0), 0.15) << out.holes.diameter_mean;
+  EXPECT_LT(relative_error(out.holes.spacing_mean, 10.0), 0.15) << out.holes.spacing_mean;
+  EXPECT_LT(out.holes.diameter_cv, 0.15);
+  EXPECT_GT(out.wall.probes, 100u);
+  EXPECT_LT(relative_error(out.wall.mean, 2.0), 0.10) << out.wall.mean;
+  expect_holes_are_tunnels(out);
+  // About one hole per hexagonal cell of the sphere's area.
+  const double cells = 4 * std::numbers::pi * 50 * 50 / (std::sqrt(3.0) / 2 * 10 * 10);
+  EXPECT_NEAR(static_cast<double>(out.holes.holes.size()), cells, 0.25 * cells);
+}
+
+TEST(HoleMapPipeline, OpenCylinderWithRimGivesTheAskedHolesAndWall) {
+  const fs::path dir = temp_dir("cylinder");
+  PipelineConfig c;
+  c.mesh = write_open_cylinder(dir, 25.0, 60.0);
+  c.holes = {5.0, 8.0, 0.0};
+  c.wall = 1.5;
+  c.rim_mm = 2.0;
+  c.output = dir / "cylinder.stl";
+  const PipelineResult r = run_pipeline(c);
+  const MeshOutput& out = r.meshes.front();
+  EXPECT_LT(relative_error(out.holes.diameter_mean, 5.0), 0.15) << out.holes.diameter_mean;
+  EXPECT_LT(relative_error(out.holes.spacing_mean, 8.0), 0.15) << out.holes.spacing_mean;
+  EXPECT_LT(relative_error(out.wall.mean, 1.5), 0.10) << out.wall.mean;
+  expect_holes_are_tunnels(out);
+  for (const Hole& hole : out.holes.holes) {  // no hole cut by the open ends
+    EXPECT_GT(hole.centroid.z() - hole.diameter / 2, 2.0 - 0.5);
+    EXPECT_LT(hole.centroid.z() + hole.diameter / 2, 60.0 - 2.0 + 0.5);
+  }
+}
+
+TEST(HoleMapPipeline, GradedHolesGrowAlongTheAxisAndNeverMerge) {
+  const fs::path dir = temp_dir("graded");
+  PipelineConfig c;
+  c.shape = "sphere";
+  c.shape_radius = 30.0;
+  c.holes = {6.0, 10.0, 0.0};
+  c.output = dir / "uniform.stl";
+  const PipelineResult uniform = run_pipeline(c);
+  c.grade = parse_grade("axis:z:4:7.5");
+  c.output = dir / "graded.stl";
+  const PipelineResult graded = run_pipeline(c);
+  const MeshOutput& out = graded.meshes.front();
+  expect_holes_are_tunnels(out);
+  // Same pattern, same holes: none merged with a neighbour, none closed.
+  EXPECT_EQ(out.holes.holes.size(), uniform.meshes.front().holes.holes.size());
+  ASSERT_TRUE(graded.grading);
+  EXPECT_EQ(graded.grading->clamped_fraction, 0.0);
+  // Mean diameter in four slabs along z rises slab by slab.
+  std::array<double, 4> sum{}, count{};
+  for (const Hole& hole : out.holes.holes) {
+    const auto slab = static_cast<std::size_t>(std::clamp((hole.centroid.z() + 30.0) / 15.0, 0.0, 3.999));
+    sum[slab] += hole.diameter;
+    count[slab] += 1;
+  }
+  for (std::size_t s = 1; s < 4; ++s) EXPECT_GT(sum[s] / count[s], sum[s - 1] / count[s - 1]) << s;
+  EXPECT_GT(sum[3] / count[3] - sum[0] / count[0], 1.5);
+}
