@@ -105,16 +105,17 @@ std::uint32_t stl_triangle_count(const std::string& bytes) {
 TEST_F(Cli, HelpExitsZeroAndMentionsEveryOption) {
   const Outcome o = run("--help");
   EXPECT_EQ(o.exit_code, 0) << o.err;
-  for (const char* option : {"--shape",     "--resolution", "--alpha",
-                             "--epsilon-m", "--dt-h",       "--tol",
-                             "--max-steps", "--seed",       "--iso",
-                             "--threads",   "--phi-bar",    "--inner",
-                             "--inner-tol", "--mesh",       "-o",
-                             "--report",    "--quiet",      "--version",
-                             "--units",     "--mode",       "--wall",
-                             "--offset",    "--points",     "--point-route",
-                             "--solver",    "--fast-tol",   "--min-stabilisation",
-                             "--max-memory"})
+  for (const char* option : {"--shape",      "--resolution",    "--alpha",
+                             "--epsilon-m",  "--dt-h",          "--tol",
+                             "--max-steps",  "--seed",          "--iso",
+                             "--threads",    "--phi-bar",       "--inner",
+                             "--inner-tol",  "--mesh",          "-o",
+                             "--report",     "--quiet",         "--version",
+                             "--units",      "--mode",          "--wall",
+                             "--offset",     "--points",        "--point-route",
+                             "--solver",     "--fast-tol",      "--min-stabilisation",
+                             "--max-memory", "--hole-diameter", "--spacing",
+                             "--porosity",   "--grade",         "--radius"})
     EXPECT_NE(o.out.find(option), std::string::npos) << option << " missing from --help:\n" << o.out;
   EXPECT_TRUE(files_in_work().empty());
 }
@@ -313,3 +314,40 @@ TEST_F(Cli, UnitsScaleTheOutputToMillimetresAndModesAreSelectable) {
 }
 
 }  // namespace
+
+TEST_F(Cli, HoleSizeRequestsAreCheckedAndReported) {
+  const std::string sphere = "--shape sphere --radius 10 --quiet";
+  const Outcome wide = run(sphere + " --hole-diameter 9 --spacing 10 -o X.stl");
+  EXPECT_EQ(wide.exit_code, 1);
+  expect_one_error_line(wide);
+  EXPECT_NE(wide.err.find("--hole-diameter 8 --spacing 10"), std::string::npos) << wide.err;
+  const Outcome both = run(sphere + " --hole-diameter 3 --alpha 100 -o X.stl");
+  EXPECT_EQ(both.exit_code, 2) << "the hole map sets alpha: asking for both is a usage error";
+  expect_one_error_line(both);
+  const Outcome ungraded = run(sphere + " --grade axis:z:2:4 -o X.stl");
+  EXPECT_EQ(ungraded.exit_code, 1);
+  EXPECT_NE(ungraded.err.find("--hole-diameter"), std::string::npos) << ungraded.err;
+  const Outcome bad_grade = run(sphere + " --hole-diameter 3 --grade axis:q:2:4 -o X.stl");
+  EXPECT_EQ(bad_grade.exit_code, 1);
+  expect_one_error_line(bad_grade);
+  const Outcome coarse = run(sphere + " --hole-diameter 3 --spacing 5 --voxel-size 2 -o X.stl");
+  EXPECT_EQ(coarse.exit_code, 1);
+  EXPECT_NE(coarse.err.find("too coarse"), std::string::npos) << coarse.err;
+  EXPECT_TRUE(files_in_work().empty());
+
+  const Outcome ok =
+      run(sphere + " --hole-diameter 3 --spacing 5 --wall 1 --max-steps 5 -o X.stl --report X.json");
+  ASSERT_EQ(ok.exit_code, 0) << ok.err;
+  const nlohmann::json report = nlohmann::json::parse(read_file(work() / "X.json"));
+  EXPECT_EQ(report["holes"]["requested"]["diameter_mm"], 3.0);
+  EXPECT_EQ(report["holes"]["planned"]["spacing_mm"], 5.0);
+  for (const char* key : {"/model/alpha_per_mm2", "/model/epsilon_mm", "/model/h_mm", "/model/phi_bar",
+                          "/mesh/holes/diameter_mean_mm", "/mesh/holes/diameter_cv",
+                          "/mesh/holes/spacing_mean_mm", "/mesh/holes/spacing_cv", "/mesh/holes/porosity",
+                          "/mesh/wall/requested_mm", "/mesh/wall/measured_mean_mm"})
+    EXPECT_TRUE(report.contains(nlohmann::json::json_pointer(key))) << key;
+  EXPECT_NEAR(report["model"]["h_mm"].get<double>(),
+              report["holes"]["planned"]["voxel_size_mm"].get<double>(),
+              0.02 * report["model"]["h_mm"].get<double>());
+  EXPECT_NEAR(report["mesh"]["wall"]["measured_mean_mm"].get<double>(), 1.0, 0.1);
+}

@@ -137,15 +137,18 @@ ShellSamples sample_printable_shell(const PipelineConfig& c, const PlacedSurface
 }
 
 // Probes across the shell's wall (mm) at up to `count` band voxels well inside the solid (phi at least
-// 0.5 below the pore level, so about an interface width from any pore), spread by band order.
+// 0.5 below the pore level, so about an interface width from any pore; where no pattern has formed,
+// any solid voxel), spread by band order.
 std::vector<WallProbe> wall_probes(const PlacedSurface& placed, const NarrowBand& band,
                                    std::span<const double> phi, double iso, double wall_mm, WallOffset offset,
                                    const SideFunction& side) {
   std::vector<WallProbe> probes;
   const std::size_t count = 256, stride = std::max<std::size_t>(1, band.size() / (4 * count));
   const double h = band.grid().h();
+  const auto deep = std::count_if(phi.begin(), phi.end(), [iso](double p) { return p < iso - 0.5; });
+  const double below = static_cast<std::size_t>(deep) >= count ? iso - 0.5 : iso;
   for (std::size_t v = 0; v < band.size() && probes.size() < count; v += stride) {
-    if (!(phi[v] < iso - 0.5)) continue;
+    if (!(phi[v] < below)) continue;
     const Vec3 x = band.grid().position(band.voxels()[v]);
     const std::optional<Vec3> cp = closest_point_at(*placed.surface, x, h, ClosestPointRule::exact);
     if (!cp || (x - *cp).norm() < 0.25 * h) continue;  // the normal is only defined off the surface
@@ -254,6 +257,7 @@ PipelineResult run_pipeline(const PipelineConfig& given) {
   result.threads =
       static_cast<int>(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
   PipelineConfig config = given;
+  result.requested_holes = given.holes;
   if (!config.holes.empty()) {
     result.plan = plan_pattern(config.holes);
     if (config.voxel_size <= 0.0) {

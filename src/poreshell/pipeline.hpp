@@ -102,6 +102,7 @@ struct PipelineResult {
   std::size_t band_bytes = 0;
   ModelParameters model;
   double dt = 0.0;
+  HoleRequest requested_holes;            // as given
   std::optional<PatternPlan> plan;        // the hole map's choice, when a hole size was asked for
   std::optional<GradingSummary> grading;  // when graded
   std::string solver_name;

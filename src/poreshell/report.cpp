@@ -16,8 +16,40 @@ nlohmann::json to_json(const PipelineResult& r) {
                       {"euler_characteristic", m.topology.euler_characteristic},
                       {"volume", m.topology.signed_volume},
                       {"pores_from_euler", m.pores_from_euler},
-                      {"spots_at_iso", m.spots_at_iso}});
+                      {"spots_at_iso", m.spots_at_iso},
+                      {"holes",
+                       {{"count", m.holes.holes.size()},
+                        {"diameter_mean_mm", m.holes.diameter_mean},
+                        {"diameter_cv", m.holes.diameter_cv},
+                        {"spacing_mean_mm", m.holes.spacing_mean},
+                        {"spacing_cv", m.holes.spacing_cv},
+                        {"porosity", m.holes.porosity}}},
+                      {"wall",
+                       {{"requested_mm", r.solid.wall_mm},
+                        {"measured_mean_mm", m.wall.mean},
+                        {"measured_min_mm", m.wall.min},
+                        {"measured_max_mm", m.wall.max},
+                        {"probes", m.wall.probes}}}});
   }
+  const double mm_per_grid = r.input.millimetres_per_unit / r.input.scale;
+  json holes = json::object();
+  if (r.plan)
+    holes = {{"requested",
+              {{"diameter_mm", r.requested_holes.diameter},
+               {"spacing_mm", r.requested_holes.spacing},
+               {"porosity", r.requested_holes.porosity}}},
+             {"planned",
+              {{"diameter_mm", r.plan->diameter},
+               {"spacing_mm", r.plan->spacing},
+               {"porosity", r.plan->porosity},
+               {"pore_level", r.plan->level},
+               {"voxel_size_mm", r.plan->voxel_size}}}};
+  if (r.grading)
+    holes["grading"] = {{"min_diameter_mm", r.grading->min_diameter},
+                        {"max_diameter_mm", r.grading->max_diameter},
+                        {"clamped_fraction", r.grading->clamped_fraction},
+                        {"printable_min_mm", r.grading->clamped_min},
+                        {"printable_max_mm", r.grading->clamped_max}};
   json mesh = meshes.empty() ? json::object() : meshes.front();
   mesh["outputs"] = meshes;
   mesh["unperforated_euler_characteristic"] = r.unperforated_euler;
@@ -58,7 +90,14 @@ nlohmann::json to_json(const PipelineResult& r) {
         {"closure_added", r.band_stats.closure_added},
         {"bytes", r.band_bytes}}},
       {"model",
-       {{"alpha", r.model.alpha}, {"epsilon", r.model.epsilon}, {"phi_bar", r.model.phi_bar}, {"dt", r.dt}}},
+       {{"alpha", r.model.alpha},
+        {"epsilon", r.model.epsilon},
+        {"phi_bar", r.model.phi_bar},
+        {"dt", r.dt},
+        {"alpha_per_mm2", r.model.alpha / (mm_per_grid * mm_per_grid)},
+        {"epsilon_mm", r.model.epsilon * mm_per_grid},
+        {"h_mm", r.h * mm_per_grid}}},
+      {"holes", holes},
       {"solver",
        {{"name", r.solver_name},
         {"inner_iteration", r.inner_iteration},
