@@ -145,7 +145,7 @@ void print_summary(const poreshell::PipelineConfig& c, const poreshell::Pipeline
         m.holes.holes.size(), m.holes.diameter_mean, m.holes.diameter_cv, m.holes.spacing_mean,
         m.holes.spacing_cv, m.holes.porosity);
     if (m.wall.probes > 0)
-      fmt::print("; wall {:.4g} mm ({:.4g}-{:.4g}, {} probes)", m.wall.mean, m.wall.min, m.wall.max,
+      fmt::print("; wall {:.4g} mm ({:.4g}-{:.4g}, {} probes)", m.wall.median, m.wall.min, m.wall.max,
                  m.wall.probes);
     fmt::print("\n");
     fmt::print(

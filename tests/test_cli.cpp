@@ -344,10 +344,10 @@ TEST_F(Cli, HoleSizeRequestsAreCheckedAndReported) {
   for (const char* key : {"/model/alpha_per_mm2", "/model/epsilon_mm", "/model/h_mm", "/model/phi_bar",
                           "/mesh/holes/diameter_mean_mm", "/mesh/holes/diameter_cv",
                           "/mesh/holes/spacing_mean_mm", "/mesh/holes/spacing_cv", "/mesh/holes/porosity",
-                          "/mesh/wall/requested_mm", "/mesh/wall/measured_mean_mm"})
+                          "/mesh/wall/requested_mm", "/mesh/wall/measured_median_mm"})
     EXPECT_TRUE(report.contains(nlohmann::json::json_pointer(key))) << key;
   EXPECT_NEAR(report["model"]["h_mm"].get<double>(),
               report["holes"]["planned"]["voxel_size_mm"].get<double>(),
               0.02 * report["model"]["h_mm"].get<double>());
-  EXPECT_NEAR(report["mesh"]["wall"]["measured_mean_mm"].get<double>(), 1.0, 0.1);
+  EXPECT_NEAR(report["mesh"]["wall"]["measured_median_mm"].get<double>(), 1.0, 0.1);
 }

@@ -136,22 +136,26 @@ ShellSamples sample_printable_shell(const PipelineConfig& c, const PlacedSurface
   return samples;
 }
 
-// Probes across the shell's wall (mm) at up to `count` band voxels well inside the solid (phi at least
-// 0.5 below the pore level, so about an interface width from any pore; where no pattern has formed,
-// any solid voxel), spread by band order.
+// Probes across the shell's wall (mm) at up to `count` band voxels well inside the solid (phi nearer
+// its minimum than the pore level, so away from pore rims, where a probe would graze the rim's wall),
+// spread by band order.
 std::vector<WallProbe> wall_probes(const PlacedSurface& placed, const NarrowBand& band,
                                    std::span<const double> phi, double iso, double wall_mm, WallOffset offset,
                                    const SideFunction& side) {
   std::vector<WallProbe> probes;
   const std::size_t count = 256, stride = std::max<std::size_t>(1, band.size() / (4 * count));
   const double h = band.grid().h();
-  const auto deep = std::count_if(phi.begin(), phi.end(), [iso](double p) { return p < iso - 0.5; });
-  const double below = static_cast<std::size_t>(deep) >= count ? iso - 0.5 : iso;
+  const double below = 0.5 * (iso + *std::min_element(phi.begin(), phi.end()));
   for (std::size_t v = 0; v < band.size() && probes.size() < count; v += stride) {
     if (!(phi[v] < below)) continue;
     const Vec3 x = band.grid().position(band.voxels()[v]);
     const std::optional<Vec3> cp = closest_point_at(*placed.surface, x, h, ClosestPointRule::exact);
     if (!cp || (x - *cp).norm() < 0.25 * h) continue;  // the normal is only defined off the surface
+    // The mirror point across the surface must share the closest point, else cp is on an open edge or
+    // the surface folds within h: the line along x - cp would not cross the wall.
+    const std::optional<Vec3> mirror =
+        closest_point_at(*placed.surface, 2.0 * *cp - x, h, ClosestPointRule::exact);
+    if (!mirror || (*mirror - *cp).norm() > 0.25 * h) continue;
     Vec3 n = (x - *cp).normalized();
     if (offset != WallOffset::centered) {
       const double outside = side ? side(x, *cp) : placed.surface->distance(x);

@@ -26,7 +26,7 @@ nlohmann::json to_json(const PipelineResult& r) {
                         {"porosity", m.holes.porosity}}},
                       {"wall",
                        {{"requested_mm", r.solid.wall_mm},
-                        {"measured_mean_mm", m.wall.mean},
+                        {"measured_median_mm", m.wall.median},
                         {"measured_min_mm", m.wall.min},
                         {"measured_max_mm", m.wall.max},
                         {"probes", m.wall.probes}}}});

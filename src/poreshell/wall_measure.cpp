@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <limits>
 #include <optional>
+#include <vector>
 
 #include "poreshell/mesh_surface.hpp"
 
@@ -30,20 +31,18 @@ WallMeasurement measure_wall(const TriangleMesh& solid, std::span<const WallProb
   if (probes.empty() || solid.triangles.empty()) return m;
   const MeshSurface surface(solid);
   const double tolerance = 1e-6 * max_length;
-  double sum = 0.0;
-  m.min = std::numeric_limits<double>::infinity();
+  std::vector<double> thickness;
   for (const WallProbe& p : probes) {
     const auto up = trace(surface, p.start, p.normal, max_length, tolerance);
     const auto down = trace(surface, p.start, -p.normal, max_length, tolerance);
-    if (!up || !down) continue;
-    const double t = *up + *down;
-    sum += t;
-    m.min = std::min(m.min, t);
-    m.max = std::max(m.max, t);
-    ++m.probes;
+    if (up && down) thickness.push_back(*up + *down);
   }
-  if (m.probes == 0) return WallMeasurement{};
-  m.mean = sum / static_cast<double>(m.probes);
+  if (thickness.empty()) return m;
+  std::sort(thickness.begin(), thickness.end());
+  m.probes = thickness.size();
+  m.median = thickness[thickness.size() / 2];
+  m.min = thickness.front();
+  m.max = thickness.back();
   return m;
 }
 

@@ -14,9 +14,11 @@ struct WallProbe {
   Vec3 normal = Vec3::UnitZ();  // unit, across the wall
 };
 
+// The median is what the wall is; the extremes show where probes met a pore's rim (its facets stand
+// a fraction of a cell into the bridge beside it) or a fold of the model.
 struct WallMeasurement {
   std::size_t probes = 0;  // probes that met the surface on both sides
-  double mean = 0.0, min = 0.0, max = 0.0;
+  double median = 0.0, min = 0.0, max = 0.0;
 };
 
 WallMeasurement measure_wall(const TriangleMesh& solid, std::span<const WallProbe> probes, double max_length);
