@@ -414,6 +414,29 @@ TEST(MeshSurface, SphereWithHoleMatchesBruteForce) {
   expect_matches_brute_force(m, 1500);
 }
 
+// nearest_triangle names a triangle of the input mesh (not of the tree's leaf order), never one that is
+// skipped for a repeated vertex, and gives closest_point's point.
+TEST(MeshSurface, NearestTriangleIndexesTheInputTriangles) {
+  const TriangleMesh reference = holed_sphere();
+  TriangleMesh m = reference;
+  // Skipped triangles shift the input indices of those after them.
+  m.triangles.insert(m.triangles.begin(), {0, 0, 1});
+  m.triangles.insert(m.triangles.begin() + 40, {3, 9, 3});
+  const MeshSurface surface(m);
+  std::mt19937 rng(13);
+  for (const Vec3& p : query_points(m, 600, rng)) {
+    const MeshSurface::NearestTriangle nearest = surface.nearest_triangle(p);
+    ASSERT_LT(nearest.triangle, m.triangles.size());
+    const auto& t = m.triangles[nearest.triangle];
+    ASSERT_TRUE(t[0] != t[1] && t[1] != t[2] && t[0] != t[2]) << "a skipped triangle, at " << p.transpose();
+    EXPECT_EQ(nearest.point, *surface.closest_point(p));
+    const double tol = 1e-12 * (1.0 + p.norm());
+    const Vec3 on_it = ref_triangle(p, m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]);
+    EXPECT_NEAR((on_it - p).norm(), brute_force(reference, p).distance, tol) << "not the nearest triangle";
+    EXPECT_LT((on_it - nearest.point).norm(), tol) << "the point is not on that triangle";
+  }
+}
+
 TEST(MeshSurface, DistanceIsOneLipschitz) {
   const MeshSurface s(holed_sphere());
   std::mt19937 rng(11);

@@ -93,19 +93,24 @@ Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, cons
 }
 
 MeshSurface::MeshSurface(const TriangleMesh& mesh) {
+  // Checked on the input count, so that input_index_ holds every input index.
+  if (mesh.triangles.size() > static_cast<std::size_t>(INT32_MAX / 2))
+    throw InputError("the mesh has too many triangles (over 2^30): decimate it");
   std::vector<Tri> tris;
+  std::vector<std::int32_t> input_index;
   tris.reserve(mesh.triangles.size());
-  for (const auto& t : mesh.triangles) {
+  input_index.reserve(mesh.triangles.size());
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+    const auto& t = mesh.triangles[i];
     if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) continue;
     Tri tri{mesh.vertices.at(t[0]), mesh.vertices.at(t[1]), mesh.vertices.at(t[2])};
     if (!tri.a.allFinite() || !tri.b.allFinite() || !tri.c.allFinite())
       throw InputError("the mesh has a vertex with a NaN or infinite coordinate: repair the mesh");
     tri.shape = classify_triangle(tri.a, tri.b, tri.c);
     tris.push_back(tri);
+    input_index.push_back(static_cast<std::int32_t>(i));
   }
   if (tris.empty()) throw InputError("the mesh has no triangles: it cannot define a surface");
-  if (tris.size() > static_cast<std::size_t>(INT32_MAX / 2))
-    throw InputError("the mesh has too many triangles (over 2^30): decimate it");
 
   std::vector<Vec3> centroids(tris.size());
   for (std::size_t i = 0; i < tris.size(); ++i) centroids[i] = (tris[i].a + tris[i].b + tris[i].c) / 3.0;
@@ -115,7 +120,11 @@ MeshSurface::MeshSurface(const TriangleMesh& mesh) {
   nodes_.push_back({});
   build(0, order, tris, centroids, 0, static_cast<std::int32_t>(tris.size()));
   tris_.reserve(tris.size());
-  for (std::int32_t i : order) tris_.push_back(tris[i]);
+  input_index_.reserve(tris.size());
+  for (std::int32_t i : order) {
+    tris_.push_back(tris[i]);
+    input_index_.push_back(input_index[i]);
+  }
 }
 
 void MeshSurface::build(std::int32_t node, std::vector<std::int32_t>& order, const std::vector<Tri>& tris,
@@ -146,7 +155,7 @@ void MeshSurface::build(std::int32_t node, std::vector<std::int32_t>& order, con
   build(left + 1, order, tris, centroids, mid, end);
 }
 
-double MeshSurface::nearest(const Vec3& p, Vec3& closest) const {
+double MeshSurface::nearest(const Vec3& p, Vec3& closest, std::int32_t& index) const {
   struct Pending {
     std::int32_t node;
     double d2;  // lower bound: squared distance to its box
@@ -164,6 +173,7 @@ double MeshSurface::nearest(const Vec3& p, Vec3& closest) const {
         if (d2 < best) {
           best = d2;
           closest = q;
+          index = i;
         }
       }
     } else {
@@ -190,13 +200,23 @@ double MeshSurface::nearest(const Vec3& p, Vec3& closest) const {
 
 double MeshSurface::distance(const Vec3& p) const {
   Vec3 closest;
-  return std::sqrt(nearest(p, closest));
+  std::int32_t index = 0;
+  return std::sqrt(nearest(p, closest, index));
 }
 
 std::optional<Vec3> MeshSurface::closest_point(const Vec3& p) const {
   Vec3 closest;
-  nearest(p, closest);
+  std::int32_t index = 0;
+  nearest(p, closest, index);
   return closest;
+}
+
+MeshSurface::NearestTriangle MeshSurface::nearest_triangle(const Vec3& p) const {
+  NearestTriangle out;
+  std::int32_t index = 0;
+  nearest(p, out.point, index);
+  out.triangle = static_cast<std::size_t>(input_index_[static_cast<std::size_t>(index)]);
+  return out;
 }
 
 Box MeshSurface::bounds() const {

@@ -32,6 +32,14 @@ class MeshSurface final : public Surface {
 
   std::size_t triangle_count() const { return tris_.size(); }
 
+  // The nearest triangle, as its index in the constructor's mesh.triangles (a skipped triangle is
+  // never nearest), and the closest point on it: what interpolating per-vertex data needs.
+  struct NearestTriangle {
+    std::size_t triangle = 0;
+    Vec3 point = Vec3::Zero();
+  };
+  NearestTriangle nearest_triangle(const Vec3& p) const;
+
  private:
   struct Node {
     Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();
@@ -46,11 +54,12 @@ class MeshSurface final : public Surface {
   // Fills nodes_[node] for the triangles order[begin, end), splitting at the centroid median.
   void build(std::int32_t node, std::vector<std::int32_t>& order, const std::vector<Tri>& tris,
              const std::vector<Vec3>& centroids, std::int32_t begin, std::int32_t end);
-  // Squared distance and closest point of the nearest triangle.
-  double nearest(const Vec3& p, Vec3& closest) const;
+  // Squared distance, closest point and position in tris_ of the nearest triangle.
+  double nearest(const Vec3& p, Vec3& closest, std::int32_t& index) const;
 
-  std::vector<Node> nodes_;  // nodes_[0] is the root
-  std::vector<Tri> tris_;    // in leaf order, so a leaf's triangles are contiguous
+  std::vector<Node> nodes_;                // nodes_[0] is the root
+  std::vector<Tri> tris_;                  // in leaf order, so a leaf's triangles are contiguous
+  std::vector<std::int32_t> input_index_;  // of tris_[i] in the constructor's mesh.triangles
 };
 
 }  // namespace poreshell

@@ -2,7 +2,7 @@
 
 // XYZ text is parsed here (Assimp's XYZ support is not in Debian's build). PLY goes through Assimp,
 // which reads vertex-only files as a point mesh, but fills a truncated binary file with zeros
-// silently; a short header check in front catches that.
+// silently; a short header check in front (ply_header.hpp) catches that.
 
 #include <fmt/format.h>
 
@@ -12,12 +12,12 @@
 #include <cctype>
 #include <cmath>
 #include <fstream>
-#include <sstream>
 #include <string>
 #include <system_error>
 
 #include "poreshell/error.hpp"
 #include "poreshell/file_format.hpp"
+#include "poreshell/ply_header.hpp"
 
 namespace poreshell {
 namespace {
@@ -59,63 +59,19 @@ PointCloud read_xyz(const std::filesystem::path& path) {
   return cloud;
 }
 
-std::size_t ply_scalar_bytes(const std::string& type) {
-  static const std::array<std::pair<const char*, std::size_t>, 16> kSizes{{{"char", 1},
-                                                                           {"uchar", 1},
-                                                                           {"int8", 1},
-                                                                           {"uint8", 1},
-                                                                           {"short", 2},
-                                                                           {"ushort", 2},
-                                                                           {"int16", 2},
-                                                                           {"uint16", 2},
-                                                                           {"int", 4},
-                                                                           {"uint", 4},
-                                                                           {"int32", 4},
-                                                                           {"uint32", 4},
-                                                                           {"float", 4},
-                                                                           {"float32", 4},
-                                                                           {"double", 8},
-                                                                           {"float64", 8}}};
-  for (const auto& [name, bytes] : kSizes)
-    if (type == name) return bytes;
-  return 0;
-}
-
 // The bytes the header promises for the elements up to and including "vertex", when that much is
 // computable (no list property before it). Compared with the file size to catch a truncated file.
 void check_ply_length(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
-  std::string line, format;
-  std::size_t header_bytes = 0, promised = 0, element_count = 0, row_bytes = 0;
-  bool computable = true, vertex_seen = false, in_vertex = false, ascii = false;
-  std::size_t vertex_count = 0;
-  const auto close_element = [&] {
-    promised += element_count * row_bytes;
-    if (in_vertex) vertex_seen = true;
-  };
-  while (std::getline(in, line)) {
-    header_bytes += line.size() + 1;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    std::istringstream words(line);
-    std::string word;
-    words >> word;
-    if (word == "format") {
-      words >> format;
-      ascii = format == "ascii";
-    } else if (word == "element") {
-      if (!vertex_seen) close_element();
-      std::string name;
-      words >> name >> element_count;
-      in_vertex = name == "vertex";
-      if (in_vertex) vertex_count = element_count;
-      row_bytes = 0;
-    } else if (word == "property" && !vertex_seen) {
-      std::string type;
-      words >> type;
-      if (type == "list") computable = false;
-      row_bytes += ply_scalar_bytes(type);
-    } else if (word == "end_header") {
-      if (!vertex_seen) close_element();
+  const ply::Header header = ply::read_header(in, path);
+  std::size_t promised = 0, vertex_count = 0;
+  bool computable = true;
+  for (const ply::Element& element : header.elements) {
+    const auto row_bytes = element.row_bytes();
+    computable = computable && row_bytes.has_value();
+    if (computable) promised += element.count * *row_bytes;
+    if (element.name == "vertex") {
+      vertex_count = element.count;
       break;
     }
   }
@@ -125,18 +81,19 @@ void check_ply_length(const std::filesystem::path& path) {
   std::error_code ec;
   const auto size = std::filesystem::file_size(path, ec);
   if (ec) return;
-  if (ascii) {
+  if (header.format == ply::Format::ascii) {
     // One vertex a line: count the lines after the header (vertices come first in every common file).
     std::size_t lines = 0;
+    std::string line;
     while (lines < vertex_count && std::getline(in, line))
       if (line.find_first_not_of(" \t\r") != std::string::npos) ++lines;
     if (lines < vertex_count)
       throw InputError(fmt::format("PLY file '{}' is truncated: its header promises {} vertices, it holds {}",
                                    path.string(), vertex_count, lines));
-  } else if (computable && header_bytes + promised > size) {
+  } else if (computable && header.bytes + promised > size) {
     throw InputError(
         fmt::format("PLY file '{}' is truncated: its header promises {} bytes of data, it holds {}",
-                    path.string(), promised, size - std::min<std::uintmax_t>(size, header_bytes)));
+                    path.string(), promised, size - std::min<std::uintmax_t>(size, header.bytes)));
   }
 }
 
