@@ -307,6 +307,9 @@ int run(int argc, char** argv) {
   app.add_option("--keep-out", keep_out,
                  "solid sphere X,Y,Z,R in mm (input frame) where no pore may form; repeatable")
       ->type_name("X,Y,Z,R");
+  app.add_option("--keep-out-mask", config.keep_out_mask,
+                 "solid wherever this vertex property of the --mesh PLY file is 1 (a painted 0/1 mask)")
+      ->type_name("NAME");
   app.add_option("--max-memory", config.max_memory_gb,
                  "refuse runs estimated to need more memory than this, in GB (default: what is available)")
       ->type_name("GB")

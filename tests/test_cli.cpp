@@ -217,6 +217,11 @@ TEST_F(Cli, SolidZoneOptionsAreChecked) {
   EXPECT_EQ(reference.exit_code, 1);
   expect_one_error_line(reference);
   EXPECT_TRUE(files_in_work().empty());
+  const Outcome no_ply = run(kSmallRun + " --keep-out-mask keepout -o X.stl");
+  EXPECT_EQ(no_ply.exit_code, 1);
+  expect_one_error_line(no_ply);
+  EXPECT_NE(no_ply.err.find("PLY"), std::string::npos) << no_ply.err;
+  EXPECT_TRUE(files_in_work().empty());
   const Outcome ok = run(kSmallRun + " --keep-out 0.5,0.5,0.8,0.1 -o X.stl");
   EXPECT_EQ(ok.exit_code, 0) << ok.err;
 }

@@ -11,6 +11,7 @@
 #include <numbers>
 #include <string>
 
+#include <vector>
 #include "poreshell/grading.hpp"
 #include "poreshell/pipeline.hpp"
 
@@ -45,6 +46,42 @@ fs::path write_open_cylinder(const fs::path& dir, double radius, double height) 
       out << "f " << at(r, s) << ' ' << at(r, s + 1) << ' ' << at(r + 1, s + 1) << '\n';
       out << "f " << at(r, s) << ' ' << at(r + 1, s + 1) << ' ' << at(r + 1, s) << '\n';
     }
+  return path;
+}
+
+// A UV sphere of radius r as ASCII PLY with two painted vertex properties: keepout = 1 on the cap
+// z > cap_z, and hole_mm rising linearly from 4 mm at the south pole to 7.5 mm at the north pole.
+fs::path write_painted_sphere(const fs::path& dir, double r, double cap_z) {
+  const int rings = 48, segments = 96;
+  std::vector<Vec3> v{Vec3(0, 0, -r)};
+  for (int i = 1; i < rings; ++i)
+    for (int j = 0; j < segments; ++j) {
+      const double theta = std::numbers::pi * i / rings, phi = 2 * std::numbers::pi * j / segments;
+      v.emplace_back(r * std::sin(theta) * std::cos(phi), r * std::sin(theta) * std::sin(phi),
+                     -r * std::cos(theta));
+    }
+  v.emplace_back(0, 0, r);
+  const auto at = [&](int i, int j) { return 1 + (i - 1) * segments + j % segments; };
+  std::vector<std::array<int, 3>> f;
+  for (int j = 0; j < segments; ++j) {
+    f.push_back({0, at(1, j + 1), at(1, j)});
+    f.push_back({static_cast<int>(v.size()) - 1, at(rings - 1, j), at(rings - 1, j + 1)});
+  }
+  for (int i = 1; i < rings - 1; ++i)
+    for (int j = 0; j < segments; ++j) {
+      f.push_back({at(i, j), at(i, j + 1), at(i + 1, j + 1)});
+      f.push_back({at(i, j), at(i + 1, j + 1), at(i + 1, j)});
+    }
+  const fs::path path = dir / "painted.ply";
+  std::ofstream out(path);
+  out << "ply\nformat ascii 1.0\nelement vertex " << v.size()
+      << "\nproperty float x\nproperty float y\nproperty float z\nproperty uchar keepout\nproperty float "
+         "hole_mm\n"
+      << "element face " << f.size() << "\nproperty list uchar int vertex_indices\nend_header\n";
+  for (const Vec3& p : v)
+    out << p.x() << ' ' << p.y() << ' ' << p.z() << ' ' << (p.z() > cap_z ? 1 : 0) << ' '
+        << 4.0 + 3.5 * (p.z() + r) / (2 * r) << '\n';
+  for (const auto& t : f) out << "3 " << t[0] << ' ' << t[1] << ' ' << t[2] << '\n';
   return path;
 }
 
@@ -124,4 +161,27 @@ TEST(HoleMapPipeline, GradedHolesGrowAlongTheAxisAndNeverMerge) {
   }
   for (std::size_t s = 1; s < 4; ++s) EXPECT_GT(sum[s] / count[s], sum[s - 1] / count[s - 1]) << s;
   EXPECT_GT(sum[3] / count[3] - sum[0] / count[0], 1.5);
+}
+
+TEST(HoleMapPipeline, PaintedFieldsGradeHolesAndKeepACapSolid) {
+  const fs::path dir = temp_dir("painted");
+  PipelineConfig c;
+  c.mesh = write_painted_sphere(dir, 30.0, 15.0);
+  c.holes = {6.0, 10.0, 0.0};
+  c.grade = parse_grade("field:hole_mm");
+  c.keep_out_mask = "keepout";
+  c.output = dir / "painted.stl";
+  const PipelineResult r = run_pipeline(c);
+  const MeshOutput& out = r.meshes.front();
+  expect_holes_are_tunnels(out);
+  ASSERT_TRUE(r.grading);
+  EXPECT_NEAR(r.grading->min_diameter, 4.0, 0.3);
+  EXPECT_NEAR(r.grading->max_diameter, 7.5, 0.3);
+  double low = 0, low_n = 0, high = 0, high_n = 0;
+  for (const Hole& hole : out.holes.holes) {
+    EXPECT_LT(hole.centroid.z() + hole.diameter / 2, 15.0 + 1.0) << "a hole in the kept-out cap";
+    (hole.centroid.z() < -10 ? low : high) += hole.diameter;
+    (hole.centroid.z() < -10 ? low_n : high_n) += 1;
+  }
+  EXPECT_GT(high / high_n - low / low_n, 1.0) << "holes follow the painted diameters";
 }

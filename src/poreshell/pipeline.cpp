@@ -5,14 +5,18 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <sstream>
 
 #include "poreshell/error.hpp"
+#include "poreshell/file_format.hpp"
 #include "poreshell/initial_condition.hpp"
 #include "poreshell/isosurface.hpp"
 #include "poreshell/mesh_io.hpp"
@@ -25,6 +29,7 @@
 #include "poreshell/shell.hpp"
 #include "poreshell/solid_zones.hpp"
 #include "poreshell/units.hpp"
+#include "poreshell/vertex_field.hpp"
 #include "poreshell/winding_number.hpp"
 
 namespace poreshell {
@@ -64,7 +69,7 @@ void validate(const PipelineConfig& c) {
   for (const auto& k : c.keep_out)
     if (!(k[3] > 0.0) || !std::isfinite(k[0] + k[1] + k[2] + k[3]))
       throw InputError("--keep-out takes X,Y,Z,R in mm with a radius R > 0");
-  if ((c.rim_mm > 0.0 || !c.keep_out.empty()) && c.solver != "fast")
+  if ((c.rim_mm > 0.0 || !c.keep_out.empty() || !c.keep_out_mask.empty()) && c.solver != "fast")
     throw InputError("--rim and --keep-out act through the fast solver: drop --solver reference");
   if (c.solver != "fast" && c.solver != "reference")
     throw InputError("unknown --solver '" + c.solver + "': use fast or reference");
@@ -198,6 +203,43 @@ HoleStats holes_in_mm(const NarrowBand& band, std::span<const double> phi, doubl
   return s;
 }
 
+// A scalar painted on the input mesh (a PLY vertex property), as a function of a point in the grid's
+// frame: its value at the closest point on the file's faces.
+std::function<double(const Vec3&)> input_field(const PipelineConfig& c, const PlacedSurface& placed,
+                                               const std::string& property, const std::string& option) {
+  if (c.mesh.empty() || lowercase_extension(c.mesh) != ".ply")
+    throw InputError(option +
+                     " reads a vertex property of the input mesh: give the mesh as a PLY file with a '" +
+                     property + "' vertex property (--mesh FILE.ply)");
+  auto field = std::make_shared<const VertexScalarField>(VertexScalarField::read_ply(c.mesh, property));
+  const double mm_per_unit = placed.input.millimetres_per_unit;
+  return [field, &placed, mm_per_unit](const Vec3& x) { return field->at(placed.to_mm(x) / mm_per_unit); };
+}
+
+// Per band voxel, how solid the wall must stay (0 free, 1 solid): rims, keep-out spheres and a keep-out
+// mask (a 0/1 vertex property, blended over 0.25-0.75). Empty where nothing is kept out.
+std::vector<double> solid_zones(const PipelineConfig& c, const PlacedSurface& placed, const NarrowBand& band,
+                                double epsilon) {
+  if (c.rim_mm <= 0.0 && c.keep_out.empty() && c.keep_out_mask.empty()) return {};
+  const double grid_per_mm = 1.0 / placed.mm_per_grid();
+  std::vector<KeepOutSphere> spheres;
+  for (const auto& k : c.keep_out)
+    spheres.push_back({placed.from_mm(Vec3(k[0], k[1], k[2])), k[3] * grid_per_mm});
+  const std::vector<Segment> boundary =
+      placed.mesh ? boundary_segments(*placed.mesh) : std::vector<Segment>{};
+  // The ramp lets the pattern meet the zone over about one interface width.
+  std::vector<double> weight =
+      solid_zone_weight(band, boundary, c.rim_mm * grid_per_mm, spheres, 2.0 * epsilon);
+  if (!c.keep_out_mask.empty()) {
+    const auto mask = input_field(c, placed, c.keep_out_mask, "--keep-out-mask");
+    for (std::size_t v = 0; v < band.size(); ++v) {
+      const double m = mask(band.grid().position(band.voxels()[v]));
+      weight[v] = std::max(weight[v], std::clamp(2.0 * (m - 0.25), 0.0, 1.0));
+    }
+  }
+  return weight;
+}
+
 // A voxel size up to this factor above the hole map's keeps the pattern's interface resolved
 // (eps >= 0.77 h); coarser grids change the spacing.
 constexpr double kCoarsestVoxelPerPlanned = 1.25;
@@ -214,7 +256,12 @@ void grade_holes(const PipelineConfig& c, const PlacedSurface& placed, const Nar
     bounds.max = bounds.max.cwiseMax(positions[v]);
   }
   const PatternPlan& plan = *result.plan;
-  const auto diameter_at = graded_diameter(*c.grade, bounds, plan.diameter);
+  std::function<double(const Vec3&)> field;
+  if (c.grade->kind == GradeSpec::Kind::field) {
+    const auto in_grid = input_field(c, placed, c.grade->property, "--grade field:" + c.grade->property);
+    field = [in_grid, &placed](const Vec3& x_mm) { return in_grid(placed.from_mm(x_mm)); };
+  }
+  const auto diameter_at = graded_diameter(*c.grade, bounds, plan.diameter, field);
   result.grading = apply_grading(phi, positions, plan.spacing, plan.level, diameter_at);
 }
 
@@ -298,20 +345,11 @@ PipelineResult run_pipeline(const PipelineConfig& given) {
 
   set_model(config, placed, grid, result);
   t = std::chrono::steady_clock::now();
-  // Solid zones (rims along open boundaries, keep-out spheres) as a local mean concentration.
-  const double grid_per_mm = 1.0 / placed.mm_per_grid();
-  std::vector<double> mean_field, solid_weight;
-  if (config.rim_mm > 0.0 || !config.keep_out.empty()) {
-    std::vector<KeepOutSphere> spheres;
-    for (const auto& k : config.keep_out)
-      spheres.push_back({placed.from_mm(Vec3(k[0], k[1], k[2])), k[3] * grid_per_mm});
-    const std::vector<Segment> boundary =
-        placed.mesh ? boundary_segments(*placed.mesh) : std::vector<Segment>{};
-    // The ramp lets the pattern meet the zone over about one interface width.
-    solid_weight =
-        solid_zone_weight(band, boundary, config.rim_mm * grid_per_mm, spheres, 2.0 * result.model.epsilon);
-    mean_field = mean_concentration_field(solid_weight, result.model.phi_bar);
-  }
+  // Solid zones (rims along open boundaries, keep-out spheres and masks) as a local mean concentration.
+  const std::vector<double> solid_weight = solid_zones(config, placed, band, result.model.epsilon);
+  const std::vector<double> mean_field = solid_weight.empty()
+                                             ? std::vector<double>{}
+                                             : mean_concentration_field(solid_weight, result.model.phi_bar);
   std::unique_ptr<TimeStepper> solver;
   if (config.solver == "reference") {
     solver = std::make_unique<ReferenceSolver>(band, result.model, result.dt, config.inner);
