@@ -129,7 +129,7 @@ ShellSamples sample_printable_shell(const PipelineConfig& c, const PlacedSurface
   ShellOptions options;
   options.thickness = c.wall > 0.0 ? c.wall / mm_per_grid : 2.0 * BandOptions{}.delta_in_h * band.grid().h();
   options.offset = parse_wall_offset(c.offset);
-  options.pattern_length = std::sqrt(2.0) * result.model.epsilon;  // unit slope across the interface
+  options.pattern_length = 4.0 * std::sqrt(2.0) * result.model.epsilon;  // see shell.hpp
   options.side = side;
   ShellSamples samples = sample_shell(*placed.surface, band, phi, options);
   SolidSummary& s = result.solid;

@@ -5,8 +5,11 @@
 // pores go straight through the wall. The slab is |d| <= t/2 (centered), -t <= d <= 0 (inside) or
 // 0 <= d <= t (outside). The solid is the set F < 0 of
 //   F(x) = max(|d(x) - c| - t/2,  s (phi_ext(x) - iso)),   c = 0, -t/2 or t/2,
-// with s a length (sqrt(2) epsilon: unit slope across the pattern's interface), sampled on a sparse
-// set of grid points around the surface and meshed by marching tetrahedra (closed, manifold).
+// with s a length, sampled on a sparse set of grid points around the surface and meshed by marching
+// tetrahedra (closed, manifold). The pipeline takes s = 4 sqrt(2) eps, four times the interface's unit
+// slope: the pattern term must be well below the wall term inside the solid, else the crease of the max
+// falls between samples at the faces and thins the wall where bridges are narrow (8 mm holes at 10 mm:
+// a 2 mm wall measured 1.83 mm with s = sqrt(2) eps, 2.00 mm with 4 times that).
 // Memory grows with the surface area times the wall thickness, never with the bounding box.
 
 #include <functional>
