@@ -335,6 +335,11 @@ TEST_F(Cli, HoleSizeRequestsAreCheckedAndReported) {
   const Outcome bad_grade = run(sphere + " --hole-diameter 3 --grade axis:q:2:4 -o X.stl");
   EXPECT_EQ(bad_grade.exit_code, 1);
   expect_one_error_line(bad_grade);
+  const Outcome huge =
+      run("--shape sphere --radius 50 --quiet --hole-diameter 0.6 --spacing 1 --max-memory 0.5 -o X.stl");
+  EXPECT_EQ(huge.exit_code, 1);
+  expect_one_error_line(huge);
+  EXPECT_NE(huge.err.find("ask for holes and spacing"), std::string::npos) << huge.err;
   const Outcome coarse = run(sphere + " --hole-diameter 3 --spacing 5 --voxel-size 2 -o X.stl");
   EXPECT_EQ(coarse.exit_code, 1);
   EXPECT_NE(coarse.err.find("too coarse"), std::string::npos) << coarse.err;

@@ -39,9 +39,19 @@ int resolution_for(const PipelineConfig& c, double longest_extent, int padding_c
   if (!(c.voxel_size > 0.0)) return c.resolution;
   const double voxel_size = c.voxel_size / millimetres_per_unit(c.units);  // in the input's units
   const double n = std::round(longest_extent / voxel_size) + 1 + 2 * padding_cells;
+  const std::string points = std::to_string(static_cast<long long>(n));
+  if (n > 2048 && !c.holes.empty())  // the hole map chose the voxel size
+    throw InputError(
+        "holes this small need " + points +
+        " grid points along the model's longest side (at most 2048): ask for holes and spacing " +
+        std::to_string(n / 2048) + " times larger or more");
   if (n > 2048)
-    throw InputError("--voxel-size needs " + std::to_string(static_cast<long long>(n)) +
+    throw InputError("--voxel-size needs " + points +
                      " grid points along the longest side (at most 2048): choose a larger voxel size");
+  if (n < 17 && !c.holes.empty())
+    throw InputError(
+        "holes this large leave only " + points +
+        " grid points along the model's longest side (17 at least): ask for smaller holes and spacing");
   if (n < 17) throw InputError("--voxel-size is too coarse for this model: choose a smaller voxel size");
   return static_cast<int>(n);
 }
@@ -118,9 +128,12 @@ void check_memory(const PipelineConfig& c, const PlacedSurface& placed, double h
   message.precision(3);
   message << "this run needs about " << needed / 1e9 << " GB (about " << voxels / 1e6
           << " million band voxels at h = " << h_mm << " mm), more than the " << limit / 1e9 << " GB "
-          << (c.max_memory_gb > 0.0 ? "allowed by --max-memory" : "available") << ": use --resolution "
-          << static_cast<int>(1 + (resolution - 1) * shrink) << " or less, or --voxel-size " << h_mm / shrink
-          << " mm or more";
+          << (c.max_memory_gb > 0.0 ? "allowed by --max-memory" : "available") << ": ";
+  if (c.holes.empty())
+    message << "use --resolution " << static_cast<int>(1 + (resolution - 1) * shrink)
+            << " or less, or --voxel-size " << h_mm / shrink << " mm or more";
+  else  // the voxel size follows the holes: memory grows like (size of the model / spacing)^2
+    message << "ask for holes and spacing " << 1.0 / shrink << " times larger or more";
   throw InputError(message.str());
 }
 
