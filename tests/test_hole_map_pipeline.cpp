@@ -14,17 +14,12 @@
 #include <vector>
 #include "poreshell/grading.hpp"
 #include "poreshell/pipeline.hpp"
+#include "temp_dir.hpp"
 
 using namespace poreshell;
 namespace fs = std::filesystem;
 
 namespace {
-
-fs::path temp_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("poreshell-test-holes-" + name);
-  fs::create_directories(dir);
-  return dir;
-}
 
 double relative_error(double measured, double asked) {
   return std::abs(measured - asked) / asked;
@@ -100,7 +95,8 @@ TEST(HoleMapPipeline, SphereOfRadius50GivesTheAskedHolesWallAndPores) {
   c.shape_radius = 50.0;
   c.holes = {6.0, 10.0, 0.0};
   c.wall = 2.0;
-  c.output = temp_dir("sphere") / "sphere.stl";
+  const TempDir dir;
+  c.output = dir / "sphere.stl";
   const PipelineResult r = run_pipeline(c);
   ASSERT_EQ(r.meshes.size(), 1u);
   const MeshOutput& out = r.meshes.front();
@@ -116,9 +112,9 @@ TEST(HoleMapPipeline, SphereOfRadius50GivesTheAskedHolesWallAndPores) {
 }
 
 TEST(HoleMapPipeline, OpenCylinderWithRimGivesTheAskedHolesAndWall) {
-  const fs::path dir = temp_dir("cylinder");
+  const TempDir dir;
   PipelineConfig c;
-  c.mesh = write_open_cylinder(dir, 25.0, 60.0);
+  c.mesh = write_open_cylinder(dir.path(), 25.0, 60.0);
   c.holes = {5.0, 8.0, 0.0};
   c.wall = 1.5;
   c.rim_mm = 2.0;
@@ -136,7 +132,7 @@ TEST(HoleMapPipeline, OpenCylinderWithRimGivesTheAskedHolesAndWall) {
 }
 
 TEST(HoleMapPipeline, GradedHolesGrowAlongTheAxisAndNeverMerge) {
-  const fs::path dir = temp_dir("graded");
+  const TempDir dir;
   PipelineConfig c;
   c.shape = "sphere";
   c.shape_radius = 30.0;
@@ -164,9 +160,9 @@ TEST(HoleMapPipeline, GradedHolesGrowAlongTheAxisAndNeverMerge) {
 }
 
 TEST(HoleMapPipeline, PaintedFieldsGradeHolesAndKeepACapSolid) {
-  const fs::path dir = temp_dir("painted");
+  const TempDir dir;
   PipelineConfig c;
-  c.mesh = write_painted_sphere(dir, 30.0, 15.0);
+  c.mesh = write_painted_sphere(dir.path(), 30.0, 15.0);
   c.holes = {6.0, 10.0, 0.0};
   c.grade = parse_grade("field:hole_mm");
   c.keep_out_mask = "keepout";

@@ -18,31 +18,12 @@
 #include "poreshell/point_cloud.hpp"
 #include "poreshell/point_io.hpp"
 #include "poreshell/point_segmentation.hpp"
+#include "temp_dir.hpp"
 
 using namespace poreshell;
 namespace fs = std::filesystem;
 
 namespace {
-
-class TempDir {
- public:
-  TempDir() {
-    path_ = fs::temp_directory_path() /
-            ("poreshell-points-" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "-" +
-             ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() { fs::remove_all(path_); }
-  fs::path file(const std::string& name, const std::string& contents) const {
-    const fs::path p = path_ / name;
-    std::ofstream(p, std::ios::binary) << contents;
-    return p;
-  }
-
- private:
-  fs::path path_;
-};
 
 std::string binary_ply(const std::vector<Vec3>& points, std::size_t declared) {
   std::string s = "ply\nformat binary_little_endian 1.0\nelement vertex " + std::to_string(declared) +

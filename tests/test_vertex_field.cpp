@@ -20,31 +20,12 @@
 #include "poreshell/mesh.hpp"
 #include "poreshell/mesh_surface.hpp"
 #include "poreshell/vertex_field.hpp"
+#include "temp_dir.hpp"
 
 using namespace poreshell;
 namespace fs = std::filesystem;
 
 namespace {
-
-class TempDir {
- public:
-  TempDir() {
-    path_ = fs::temp_directory_path() /
-            ("poreshell-field-" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "-" +
-             ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() { fs::remove_all(path_); }
-  fs::path file(const std::string& name, const std::string& contents) const {
-    const fs::path p = path_ / name;
-    std::ofstream(p, std::ios::binary) << contents;
-    return p;
-  }
-
- private:
-  fs::path path_;
-};
 
 // ---------- a small PLY writer, independent of the reader ----------
 
