@@ -10,8 +10,8 @@
 #include <fstream>
 #include <numbers>
 #include <string>
-
 #include <vector>
+
 #include "poreshell/grading.hpp"
 #include "poreshell/pipeline.hpp"
 #include "temp_dir.hpp"
