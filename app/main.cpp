@@ -207,6 +207,16 @@ int run(int argc, char** argv) {
   app.add_option("--keep-out", keep_out,
                  "solid sphere X,Y,Z,R in mm (input frame) where no pore may form; repeatable")
       ->type_name("X,Y,Z,R");
+  app.add_option("--max-triangles", config.max_triangles,
+                 "reduce each output to at most N triangles, keeping it closed, manifold and within "
+                 "--max-deviation of the meshed surface")
+      ->type_name("N")
+      ->check(number_above(0.0, true));
+  app.add_option("--max-deviation", config.max_deviation,
+                 "how far (mm) the reduced surface may lie from the meshed one; keep it below half the wall")
+      ->type_name("MM")
+      ->check(number_above(0.0, false))
+      ->capture_default_str();
   app.add_option("--keep-out-mask", config.keep_out_mask,
                  "solid wherever this vertex property of the --mesh PLY file is 1 (a painted 0/1 mask)")
       ->type_name("NAME");

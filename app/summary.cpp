@@ -95,6 +95,10 @@ void print_summary(const poreshell::PipelineConfig& c, const poreshell::Pipeline
         "  measured {} holes, diameter {:.4g} mm (CV {:.3f}), spacing {:.4g} mm (CV {:.3f}), porosity {:.3f}",
         m.holes.holes.size(), m.holes.diameter_mean, m.holes.diameter_cv, m.holes.spacing_mean,
         m.holes.spacing_cv, m.holes.porosity);
+    if (m.reduction)
+      fmt::print("; reduced {} -> {} triangles, {:.3g} mm from the meshed surface{}",
+                 m.reduction->triangles_before, m.reduction->triangles_after, m.reduction->max_distance,
+                 m.reduction->reached_target ? "" : " (the deviation bound stopped it)");
     if (m.wall.probes > 0)
       fmt::print("; wall {:.4g} mm ({:.4g}-{:.4g}, {} probes)", m.wall.median, m.wall.min, m.wall.max,
                  m.wall.probes);

@@ -111,16 +111,20 @@ TEST(HoleMapPipeline, SphereOfRadius50GivesTheAskedHolesWallAndPores) {
   EXPECT_NEAR(static_cast<double>(out.holes.holes.size()), cells, 0.25 * cells);
 }
 
-TEST(HoleMapPipeline, OpenCylinderWithRimGivesTheAskedHolesAndWall) {
+TEST(HoleMapPipeline, OpenCylinderWithRimGivesTheAskedHolesAndWallReducedToATriangleBudget) {
   const TempDir dir;
   PipelineConfig c;
   c.mesh = write_open_cylinder(dir.path(), 25.0, 60.0);
   c.holes = {5.0, 8.0, 0.0};
   c.wall = 1.5;
   c.rim_mm = 2.0;
+  c.max_triangles = 150000;  // from about 590,000
   c.output = dir / "cylinder.stl";
   const PipelineResult r = run_pipeline(c);
   const MeshOutput& out = r.meshes.front();
+  ASSERT_TRUE(out.reduction);
+  EXPECT_LE(out.topology.triangles, 150000);
+  EXPECT_LE(out.reduction->max_distance, c.max_deviation);
   EXPECT_LT(relative_error(out.holes.diameter_mean, 5.0), 0.15) << out.holes.diameter_mean;
   EXPECT_LT(relative_error(out.holes.spacing_mean, 8.0), 0.15) << out.holes.spacing_mean;
   EXPECT_LT(relative_error(out.wall.median, 1.5), 0.10) << out.wall.median;

@@ -96,6 +96,10 @@ void validate(const PipelineConfig& c) {
   if (c.grade && c.holes.empty())
     throw InputError(
         "--grade sets hole diameters in mm: add --hole-diameter MM (and --spacing MM or --porosity F)");
+  if (c.max_triangles < 0 || (c.max_triangles > 0 && c.max_triangles < 4))
+    throw InputError("--max-triangles must be at least 4 (0: keep every triangle)");
+  if (!(c.max_deviation > 0.0) || !std::isfinite(c.max_deviation))
+    throw InputError("--max-deviation must be a positive length in mm");
   if (c.output.empty()) throw InputError("give an output file with -o OUT.stl");
   check_output_extension(c.output);
 }
@@ -413,6 +417,8 @@ PipelineResult run_pipeline(const PipelineConfig& given) {
     out.path = output_path_for_level(config.output, iso, several);
     meshes.push_back(shell ? shell_mesh(*shell, iso) : narrow_volume_mesh(band, phi, iso));
     for (Vec3& v : meshes.back().vertices) v = placed.to_mm(v);
+    if (config.max_triangles > 0)
+      out.reduction = decimate_mesh(meshes.back(), {config.max_triangles, config.max_deviation});
     out.topology = analyze_topology(meshes.back());
     out.spots_at_iso = spot_statistics(band, phi, iso).count;
     out.pores_from_euler = (result.unperforated_euler - out.topology.euler_characteristic) / 2;

@@ -15,6 +15,7 @@
 #include "poreshell/grading.hpp"
 #include "poreshell/hole_map.hpp"
 #include "poreshell/mesh.hpp"
+#include "poreshell/mesh_decimate.hpp"
 #include "poreshell/model.hpp"
 #include "poreshell/pattern.hpp"
 #include "poreshell/reference_solver.hpp"
@@ -34,11 +35,11 @@ struct PipelineConfig {
   double rim_mm = 0.0;           // solid rim of this width along the input mesh's open boundary
   std::vector<std::array<double, 4>> keep_out;  // solid spheres: centre x, y, z and radius, in mm
   std::string keep_out_mask;  // a PLY vertex property of the input mesh: solid where it is 1 (above 0.5)
-  std::string units = "mm";  // unit of the input's coordinates: m | cm | mm | inch; outputs are in mm
-  double alpha = 1400.0;     // nonlocal strength alpha
-  double epsilon_m = 4.0;    // m in epsilon_m = m h / (2 sqrt 2 atanh 0.9)
-  double dt_in_h = 100.0;    // time step in units of h
-  double tolerance = 1e-3;   // stop when e_c (RMS over the band) < tolerance
+  std::string units = "mm";   // unit of the input's coordinates: m | cm | mm | inch; outputs are in mm
+  double alpha = 1400.0;      // nonlocal strength alpha
+  double epsilon_m = 4.0;     // m in epsilon_m = m h / (2 sqrt 2 atanh 0.9)
+  double dt_in_h = 100.0;     // time step in units of h
+  double tolerance = 1e-3;    // stop when e_c (RMS over the band) < tolerance
   int max_steps = 2000;
   std::uint64_t seed = 1;
   double phi_bar = -0.3;   // mean concentration
@@ -56,6 +57,8 @@ struct PipelineConfig {
   std::string mode = "shell";  // shell (wall of its own, pores straight through) | narrow-volume (Fig. 3b)
   double wall = 0.0;           // shell wall thickness in mm; 0: the band's width 2 delta = 3.81 h
   std::string offset = "centered";  // shell wall: centered on the surface, inside or outside it
+  std::int64_t max_triangles = 0;   // reduce each output to at most this many triangles; 0: as meshed
+  double max_deviation = 0.05;      // mm: how far the reduced surface may lie from the meshed one
   std::function<void(const StepProgress&)> on_step;
   std::string point_route = "direct";  // --points: direct (splats, no PDE) | paper (densify + eq. 3.3)
 };
@@ -64,10 +67,11 @@ struct MeshOutput {
   double iso = 0.0;
   std::filesystem::path path;
   MeshTopology topology;
-  HoleStats holes;                    // on the band at this level, lengths in mm
-  WallMeasurement wall;               // across the written solid's wall, mm (shell mode)
-  std::int64_t spots_at_iso = 0;      // connected components of {phi > iso} on the band
-  std::int64_t pores_from_euler = 0;  // (chi of the unperforated solid - chi) / 2
+  HoleStats holes;                          // on the band at this level, lengths in mm
+  std::optional<DecimateResult> reduction;  // --max-triangles
+  WallMeasurement wall;                     // across the written solid's wall, mm (shell mode)
+  std::int64_t spots_at_iso = 0;            // connected components of {phi > iso} on the band
+  std::int64_t pores_from_euler = 0;        // (chi of the unperforated solid - chi) / 2
 };
 
 struct InputSummary {
