@@ -220,6 +220,10 @@ int run(int argc, char** argv) {
   app.add_option("--keep-out-mask", config.keep_out_mask,
                  "solid wherever this vertex property of the --mesh PLY file is 1 (a painted 0/1 mask)")
       ->type_name("NAME");
+  std::vector<std::string> keep_out_boxes;
+  app.add_option("--keep-out-box", keep_out_boxes,
+                 "solid box X0,Y0,Z0,X1,Y1,Z1 in mm (input frame, two opposite corners); repeatable")
+      ->type_name("X0,Y0,Z0,X1,Y1,Z1");
   app.add_option("--max-memory", config.max_memory_gb,
                  "refuse runs estimated to need more memory than this, in GB (default: what is available)")
       ->type_name("GB")
@@ -287,6 +291,19 @@ int run(int argc, char** argv) {
       return kExitUsage;
     }
     config.keep_out.push_back(sphere);
+  }
+  for (const std::string& text : keep_out_boxes) {
+    std::array<double, 6> box{};
+    char extra = 0;
+    if (std::sscanf(text.c_str(), "%lf,%lf,%lf,%lf,%lf,%lf%c", &box[0], &box[1], &box[2], &box[3], &box[4],
+                    &box[5], &extra) != 6) {
+      fmt::print(stderr,
+                 "poreshell: error: --keep-out-box '{}' is not X0,Y0,Z0,X1,Y1,Z1 (six numbers, mm) (see "
+                 "poreshell --help)\n",
+                 text);
+      return kExitUsage;
+    }
+    config.keep_out_boxes.push_back(box);
   }
   config.mesh = mesh;
   config.points = points;

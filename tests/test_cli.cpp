@@ -217,6 +217,12 @@ TEST_F(Cli, SolidZoneOptionsAreChecked) {
   EXPECT_EQ(reference.exit_code, 1);
   expect_one_error_line(reference);
   EXPECT_TRUE(files_in_work().empty());
+  const Outcome bad_box = run(kSmallRun + " --keep-out-box 0,0,0,1,1 -o X.stl");
+  EXPECT_EQ(bad_box.exit_code, 2);
+  expect_one_error_line(bad_box);
+  const Outcome empty_box = run(kSmallRun + " --keep-out-box 0,0,0,1,-1,1 -o X.stl");
+  EXPECT_EQ(empty_box.exit_code, 1);
+  expect_one_error_line(empty_box);
   const Outcome no_ply = run(kSmallRun + " --keep-out-mask keepout -o X.stl");
   EXPECT_EQ(no_ply.exit_code, 1);
   expect_one_error_line(no_ply);

@@ -122,3 +122,24 @@ TEST(SolidZones, KeepOutSpheresHoldNoPore) {
   EXPECT_EQ(pore_voxels_inside, 0);
   EXPECT_GT(spots.count, 15);  // about 31 without the zones
 }
+
+TEST(SolidZones, KeepOutBoxHoldsNoPore) {
+  const Sphere surface(kCenter, kRadius);
+  const NarrowBand band = build_band(surface, unit_grid());
+  const double h = band.grid().h();
+  // A slab across the sphere's equator, as a strap would need.
+  const std::vector<KeepOutBox> boxes{{kCenter - Vec3(0.4, 0.4, 0.05), kCenter + Vec3(0.4, 0.4, 0.05)}};
+  const std::vector<double> weight = solid_zone_weight(band, {}, 0.0, {}, 2 * h, boxes);
+  const std::vector<double> phi = pattern_with_zones(band, surface, weight);
+  std::int64_t pore_voxels_inside = 0, voxels_inside = 0;
+  for (std::size_t v = 0; v < phi.size(); ++v) {
+    const Vec3 x = band.grid().position(band.voxels()[v]);
+    if ((x - boxes[0].min).minCoeff() >= 0 && (boxes[0].max - x).minCoeff() >= 0) {
+      ++voxels_inside;
+      if (phi[v] > 0.0) ++pore_voxels_inside;
+    }
+  }
+  EXPECT_GT(voxels_inside, 1000);
+  EXPECT_EQ(pore_voxels_inside, 0);
+  EXPECT_GT(spot_statistics(band, phi, 0.0).count, 15);
+}

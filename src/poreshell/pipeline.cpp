@@ -69,7 +69,12 @@ void validate(const PipelineConfig& c) {
   for (const auto& k : c.keep_out)
     if (!(k[3] > 0.0) || !std::isfinite(k[0] + k[1] + k[2] + k[3]))
       throw InputError("--keep-out takes X,Y,Z,R in mm with a radius R > 0");
-  if ((c.rim_mm > 0.0 || !c.keep_out.empty() || !c.keep_out_mask.empty()) && c.solver != "fast")
+  for (const auto& k : c.keep_out_boxes)
+    if (!(k[3] > k[0] && k[4] > k[1] && k[5] > k[2]) ||
+        !std::isfinite(k[0] + k[1] + k[2] + k[3] + k[4] + k[5]))
+      throw InputError("--keep-out-box takes X0,Y0,Z0,X1,Y1,Z1 in mm with X0 < X1, Y0 < Y1 and Z0 < Z1");
+  if ((c.rim_mm > 0.0 || !c.keep_out.empty() || !c.keep_out_boxes.empty() || !c.keep_out_mask.empty()) &&
+      c.solver != "fast")
     throw InputError("--rim and --keep-out act through the fast solver: drop --solver reference");
   if (c.solver != "fast" && c.solver != "reference")
     throw InputError("unknown --solver '" + c.solver + "': use fast or reference");
@@ -224,7 +229,7 @@ std::function<double(const Vec3&)> input_field(const PipelineConfig& c, const Pl
 // mask (a 0/1 vertex property, blended over 0.25-0.75). Empty where nothing is kept out.
 std::vector<double> solid_zones(const PipelineConfig& c, const PlacedSurface& placed, const NarrowBand& band,
                                 double epsilon) {
-  if (c.rim_mm <= 0.0 && c.keep_out.empty() && c.keep_out_mask.empty()) return {};
+  if (c.rim_mm <= 0.0 && c.keep_out.empty() && c.keep_out_boxes.empty() && c.keep_out_mask.empty()) return {};
   const double grid_per_mm = 1.0 / placed.mm_per_grid();
   std::vector<KeepOutSphere> spheres;
   for (const auto& k : c.keep_out)
@@ -232,8 +237,13 @@ std::vector<double> solid_zones(const PipelineConfig& c, const PlacedSurface& pl
   const std::vector<Segment> boundary =
       placed.mesh ? boundary_segments(*placed.mesh) : std::vector<Segment>{};
   // The ramp lets the pattern meet the zone over about one interface width.
+  std::vector<KeepOutBox> boxes;
+  for (const auto& k : c.keep_out_boxes) {
+    const Vec3 a = placed.from_mm(Vec3(k[0], k[1], k[2])), b = placed.from_mm(Vec3(k[3], k[4], k[5]));
+    boxes.push_back({a.cwiseMin(b), a.cwiseMax(b)});
+  }
   std::vector<double> weight =
-      solid_zone_weight(band, boundary, c.rim_mm * grid_per_mm, spheres, 2.0 * epsilon);
+      solid_zone_weight(band, boundary, c.rim_mm * grid_per_mm, spheres, 2.0 * epsilon, boxes);
   if (!c.keep_out_mask.empty()) {
     const auto mask = input_field(c, placed, c.keep_out_mask, "--keep-out-mask");
     for (std::size_t v = 0; v < band.size(); ++v) {
@@ -402,6 +412,11 @@ PipelineResult run_pipeline(const PipelineConfig& given) {
     result.solid.spacing_mm = grid.h() * placed.mm_per_grid();
   }
   result.solid.offset = config.offset;
+  if (config.max_triangles > 0 && config.max_deviation > 0.25 * result.solid.wall_mm)
+    throw InputError("--max-deviation " + std::to_string(config.max_deviation) +
+                     " mm is more than a quarter of the " + std::to_string(result.solid.wall_mm) +
+                     " mm wall: the reduced wall's two sides could meet; use at most " +
+                     std::to_string(0.25 * result.solid.wall_mm) + " mm");
   // The unperforated solid gives the reference Euler characteristic: each pore is one tunnel, so
   // pores = (chi0 - chi) / 2. Computed, not derived from the input's topology, because the band closes
   // holes narrower than about 2 delta (a scan's small holes) and may merge close sheets.

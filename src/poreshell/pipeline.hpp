@@ -33,7 +33,8 @@ struct PipelineConfig {
   double voxel_size = 0.0;       // h in millimetres; when > 0 it sets the resolution instead
   double max_memory_gb = 0.0;    // refuse runs estimated to need more; 0: the memory available now
   double rim_mm = 0.0;           // solid rim of this width along the input mesh's open boundary
-  std::vector<std::array<double, 4>> keep_out;  // solid spheres: centre x, y, z and radius, in mm
+  std::vector<std::array<double, 4>> keep_out;        // solid spheres: centre x, y, z and radius, in mm
+  std::vector<std::array<double, 6>> keep_out_boxes;  // solid boxes: min x, y, z and max x, y, z, in mm
   std::string keep_out_mask;  // a PLY vertex property of the input mesh: solid where it is 1 (above 0.5)
   std::string units = "mm";   // unit of the input's coordinates: m | cm | mm | inch; outputs are in mm
   double alpha = 1400.0;      // nonlocal strength alpha

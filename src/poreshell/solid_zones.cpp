@@ -70,8 +70,15 @@ std::vector<Segment> boundary_segments(const TriangleMesh& mesh) {
   return out;
 }
 
+// Signed distance to an axis-aligned box: negative inside (minus the distance to the nearest face).
+double box_distance(const Vec3& x, const KeepOutBox& b) {
+  const Vec3 outside = (b.min - x).cwiseMax(x - b.max);
+  return outside.cwiseMax(0.0).norm() + std::min(outside.maxCoeff(), 0.0);
+}
+
 std::vector<double> solid_zone_weight(const NarrowBand& band, std::span<const Segment> boundary, double rim,
-                                      std::span<const KeepOutSphere> keep_out, double ramp) {
+                                      std::span<const KeepOutSphere> keep_out, double ramp,
+                                      std::span<const KeepOutBox> boxes) {
   std::vector<double> weight(band.size(), 0.0);
   const double reach = rim + ramp;
   const bool rims = rim > 0.0 && !boundary.empty();
@@ -84,6 +91,7 @@ std::vector<double> solid_zone_weight(const NarrowBand& band, std::span<const Se
     double w = 0.0;
     if (rims) w = ramp_weight(rim - buckets.distance(x, 2.0 * reach));
     for (const KeepOutSphere& s : keep_out) w = std::max(w, ramp_weight(s.radius - (x - s.center).norm()));
+    for (const KeepOutBox& b : boxes) w = std::max(w, ramp_weight(-box_distance(x, b)));
     weight[v] = w;
   });
   return weight;
