@@ -104,11 +104,11 @@ void print_summary(const poreshell::PipelineConfig& c, const poreshell::Pipeline
                  m.wall.probes);
     fmt::print("\n");
     fmt::print(
-        "  output   {} (iso {:g}): {} triangles, {}, {}, Euler characteristic {}, pores from Euler {} vs "
-        "{} spots on band\n",
+        "  output   {} (iso {:g}): {} triangles, {}, {}, smallest angle {:.1f} deg, Euler characteristic {}, "
+        "pores from Euler {} vs {} spots on band\n",
         m.path.string(), m.iso, t.triangles, yes_no(t.closed(), "closed", "OPEN"),
-        yes_no(t.manifold(), "manifold", "NON-MANIFOLD"), t.euler_characteristic, m.pores_from_euler,
-        m.spots_at_iso);
+        yes_no(t.manifold(), "manifold", "NON-MANIFOLD"), t.min_angle_degrees, t.euler_characteristic,
+        m.pores_from_euler, m.spots_at_iso);
   }
   if (!report.empty()) fmt::print("  report   {}\n", report);
 }

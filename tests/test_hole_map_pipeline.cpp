@@ -83,6 +83,7 @@ fs::path write_painted_sphere(const fs::path& dir, double r, double cap_z) {
 // Every printed pore is a hole on the band and a tunnel of the written mesh.
 void expect_holes_are_tunnels(const MeshOutput& out) {
   EXPECT_TRUE(out.topology.closed() && out.topology.manifold() && out.topology.oriented());
+  EXPECT_GT(out.topology.min_angle_degrees, 1.0) << "no slivers";
   EXPECT_EQ(out.pores_from_euler, out.spots_at_iso);
   EXPECT_EQ(static_cast<std::int64_t>(out.holes.holes.size()), out.spots_at_iso);
 }

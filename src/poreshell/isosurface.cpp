@@ -15,7 +15,11 @@
 // Vertices are named by the grid edge they lie on, (lower end point key, direction bits), and
 // welded by sorting those names, so the output is deterministic for any thread count. Crossing
 // parameters are clamped to [kSnap, 1 - kSnap]: every vertex stays strictly inside its edge, so
-// distinct edges give distinct points and no triangle is degenerate even when values equal iso.
+// distinct edges give distinct points and no triangle is degenerate even when values equal iso; and
+// no vertex comes near a grid point, where marching tetrahedra make slivers. On a shell of 589,448
+// triangles, kSnap = 0.001 left 7,520 triangles with an angle under 1 degree (302 under 0.1); 0.05
+// leaves none (smallest 1.4 degrees) and moves the surface by at most 0.05 of an edge; 0.15 left none
+// under 5 degrees but moved a 3-cell wall's faces by 5% of its thickness.
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -32,7 +36,7 @@
 namespace poreshell {
 namespace {
 
-constexpr double kSnap = 1e-3;                // in units of the edge length
+constexpr double kSnap = 0.05;                // in units of the edge length
 constexpr std::size_t kCellsPerChunk = 2048;  // fixed, so chunking does not depend on threads
 
 // Cube corners are 3-bit masks (bit 0: +x, bit 1: +y, bit 2: +z).

@@ -10,6 +10,8 @@
 
 #include <Eigen/Geometry>  // cross()
 #include <algorithm>
+#include <cmath>
+#include <numbers>
 #include <numeric>
 #include <utility>
 
@@ -106,6 +108,19 @@ std::int64_t count_nonmanifold_vertices(const TriangleMesh& mesh, const std::vec
       std::plus<>());
 }
 
+// Cosine of a triangle's smallest angle (1 for a zero-length side).
+double largest_angle_cosine(const TriangleMesh& mesh, const std::array<std::int32_t, 3>& t) {
+  double largest = -1.0;
+  for (int c = 0; c < 3; ++c) {
+    const Vec3& p = mesh.vertices[static_cast<std::size_t>(t[c])];
+    const Vec3 u = mesh.vertices[static_cast<std::size_t>(t[(c + 1) % 3])] - p;
+    const Vec3 w = mesh.vertices[static_cast<std::size_t>(t[(c + 2) % 3])] - p;
+    const double norms = u.norm() * w.norm();
+    largest = std::max(largest, norms > 0.0 ? u.dot(w) / norms : 1.0);
+  }
+  return largest;
+}
+
 }  // namespace
 
 MeshTopology analyze_topology(const TriangleMesh& mesh) {
@@ -115,6 +130,7 @@ MeshTopology analyze_topology(const TriangleMesh& mesh) {
   topo.triangles = static_cast<std::int64_t>(nf);
 
   std::vector<char> used(nv, 0);
+  double min_cos = -1.0;  // cosine of the smallest angle seen
   std::vector<EdgeRecord> edges;
   edges.reserve(3 * nf);
   for (std::size_t f = 0; f < nf; ++f) {
@@ -125,12 +141,14 @@ MeshTopology analyze_topology(const TriangleMesh& mesh) {
       continue;  // its "edges" (a, a) are not edges
     }
     if (zero_area(mesh, t)) ++topo.degenerate_triangles;
+    min_cos = std::max(min_cos, largest_angle_cosine(mesh, t));
     for (int c = 0; c < 3; ++c) {
       const std::int32_t a = t[c], b = t[(c + 1) % 3];
       edges.push_back({edge_key(a, b), static_cast<std::int64_t>(f), a < b});
     }
   }
   topo.vertices = std::count(used.begin(), used.end(), char{1});
+  topo.min_angle_degrees = nf ? std::acos(std::clamp(min_cos, -1.0, 1.0)) * 180.0 / std::numbers::pi : 0.0;
 
   tbb::parallel_sort(edges.begin(), edges.end(), [](const EdgeRecord& x, const EdgeRecord& y) {
     return x.key != y.key ? x.key < y.key : x.tri < y.tri;

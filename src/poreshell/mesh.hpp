@@ -24,6 +24,7 @@ struct MeshTopology {
   std::int64_t components = 0;            // connected components (by shared edges)
   std::int64_t euler_characteristic = 0;  // V - E + F
   double signed_volume = 0.0;             // positive when outward oriented
+  double min_angle_degrees = 0.0;         // smallest triangle angle (slivers: under about 1 degree)
   bool closed() const { return boundary_edges == 0; }
   bool manifold() const { return nonmanifold_edges == 0 && nonmanifold_vertices == 0; }
   bool oriented() const { return misoriented_edges == 0; }

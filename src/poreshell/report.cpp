@@ -16,6 +16,7 @@ nlohmann::json to_json(const PipelineResult& r) {
          {"oriented", m.topology.oriented()},
          {"euler_characteristic", m.topology.euler_characteristic},
          {"volume", m.topology.signed_volume},
+         {"min_angle_degrees", m.topology.min_angle_degrees},
          {"pores_from_euler", m.pores_from_euler},
          {"spots_at_iso", m.spots_at_iso},
          {"holes",
