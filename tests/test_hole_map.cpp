@@ -11,18 +11,14 @@
 #include "poreshell/error.hpp"
 #include "poreshell/grading.hpp"
 #include "poreshell/hole_map.hpp"
+#include "test_support.hpp"
 
 using namespace poreshell;
 
 namespace {
 
 std::string refusal(const HoleRequest& request) {
-  try {
-    plan_pattern(request);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
+  return input_error([&] { plan_pattern(request); });
 }
 
 }  // namespace

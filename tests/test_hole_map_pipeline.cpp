@@ -14,7 +14,7 @@
 
 #include "poreshell/grading.hpp"
 #include "poreshell/pipeline.hpp"
-#include "temp_dir.hpp"
+#include "test_support.hpp"
 
 using namespace poreshell;
 namespace fs = std::filesystem;

@@ -18,7 +18,7 @@
 #include "poreshell/point_cloud.hpp"
 #include "poreshell/point_io.hpp"
 #include "poreshell/point_segmentation.hpp"
-#include "temp_dir.hpp"
+#include "test_support.hpp"
 
 using namespace poreshell;
 namespace fs = std::filesystem;
@@ -34,17 +34,6 @@ std::string binary_ply(const std::vector<Vec3>& points, std::size_t declared) {
       s.append(reinterpret_cast<const char*>(&f), sizeof f);
     }
   return s;
-}
-
-// The message of the InputError that `f` throws, or "" if it throws none.
-template <class F>
-std::string input_error(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
 }
 
 // Points on the unit sphere (Fibonacci spiral): nearly uniform, deterministic.

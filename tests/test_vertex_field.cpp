@@ -20,7 +20,7 @@
 #include "poreshell/mesh.hpp"
 #include "poreshell/mesh_surface.hpp"
 #include "poreshell/vertex_field.hpp"
-#include "temp_dir.hpp"
+#include "test_support.hpp"
 
 using namespace poreshell;
 namespace fs = std::filesystem;
@@ -134,17 +134,6 @@ std::string painted_plane(const std::string& format, const std::string& value_ty
     }
   Element material{"material", {{"float", "ambient"}, {"uchar", "name", "uchar"}}, {{{0.2}, {65, 66}}}};
   return ply_file(format, {camera, vertex, edge, face, material});
-}
-
-// The message of the InputError that `f` throws, or "" if it throws none.
-template <class F>
-std::string input_error(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
 }
 
 // Checks the painted plane's field: vertex values, the linear field inside triangles, closest points

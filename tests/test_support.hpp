@@ -1,11 +1,13 @@
 #pragma once
-// A scratch directory per test (named after the test, removed afterwards) for files the tests write.
+// Helpers the tests share: a scratch directory per test, the message of an expected InputError.
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
 #include <string>
+
+#include "poreshell/error.hpp"
 
 class TempDir {
  public:
@@ -33,3 +35,14 @@ class TempDir {
  private:
   std::filesystem::path path_;
 };
+
+// The message of the InputError that `f` throws, or "" if it throws none.
+template <class F>
+std::string input_error(F&& f) {
+  try {
+    f();
+  } catch (const poreshell::InputError& e) {
+    return e.what();
+  }
+  return "";
+}
