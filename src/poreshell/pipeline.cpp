@@ -435,9 +435,9 @@ PipelineResult run_pipeline(const PipelineConfig& given) {
     if (config.max_triangles > 0)
       out.reduction = decimate_mesh(meshes.back(), {config.max_triangles, config.max_deviation});
     out.topology = analyze_topology(meshes.back());
-    out.spots_at_iso = spot_statistics(band, phi, iso).count;
     out.pores_from_euler = (result.unperforated_euler - out.topology.euler_characteristic) / 2;
     out.holes = holes_in_mm(band, phi, iso, placed);
+    out.spots_at_iso = static_cast<std::int64_t>(out.holes.holes.size());  // every spot is a hole
     check_printable(out.topology, iso);
     if (shell)
       out.wall = measure_wall(meshes.back(),
