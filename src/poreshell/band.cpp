@@ -197,7 +197,6 @@ std::size_t NarrowBand::memory_bytes() const {
 NarrowBand build_band(const Surface& surface, const Grid& grid, const BandOptions& options) {
   NarrowBand band(grid);
   const double delta = options.delta_in_h * grid.h();
-  band.half_width_ = delta;
   const std::vector<ScannedVoxel> scanned = scan_band(surface, grid, delta, band.stats_);
   std::vector<std::int64_t> keys(scanned.size());
   for (std::size_t v = 0; v < scanned.size(); ++v) keys[v] = scanned[v].key;

@@ -59,8 +59,6 @@ class NarrowBand {
   std::span<const std::int32_t> neighbor_table() const { return neighbors_; }
   std::span<const GhostStencil> stencils() const { return stencils_; }
   const BandStats& stats() const { return stats_; }
-  // The band's half-width delta: its volume is about 2 delta times the surface's area.
-  double half_width() const { return half_width_; }
 
   // Band index of a grid point, or -1 if it is not a band voxel (binary search; build-time use).
   std::int64_t find(const Coord& c) const;
@@ -84,7 +82,6 @@ class NarrowBand {
   std::vector<std::int32_t> neighbors_;
   std::vector<GhostStencil> stencils_;
   BandStats stats_;
-  double half_width_ = 0.0;
 };
 
 // Closest point on `surface` of x: exact where the rule and the surface allow, else the paper's formula

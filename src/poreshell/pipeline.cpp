@@ -136,13 +136,12 @@ ShellSamples sample_printable_shell(const PipelineConfig& c, const PlacedSurface
   const auto start = std::chrono::steady_clock::now();
   const double mm_per_grid = placed.mm_per_grid();
   ShellOptions options;
-  options.thickness = c.wall > 0.0 ? c.wall / mm_per_grid : 2.0 * BandOptions{}.delta_in_h * band.grid().h();
+  options.thickness = result.solid.wall_mm / mm_per_grid;
   options.offset = parse_wall_offset(c.offset);
   options.pattern_length = 4.0 * std::sqrt(2.0) * result.model.epsilon;  // see shell.hpp
   options.side = side;
   ShellSamples samples = sample_shell(*placed.surface, band, phi, options);
   SolidSummary& s = result.solid;
-  s.wall_mm = options.thickness * mm_per_grid;
   s.spacing_mm = samples.grid.h() * mm_per_grid;
   s.samples = samples.points.size();
   s.incomplete_stencils = samples.incomplete_stencils;
@@ -212,8 +211,8 @@ HoleStats holes_in_mm(const NarrowBand& band, std::span<const double> phi, doubl
   return s;
 }
 
-// A scalar painted on the input mesh (a PLY vertex property), as a function of a point in the grid's
-// frame: its value at the closest point on the file's faces.
+// A scalar painted on the input mesh (a PLY vertex property), as a function of a point in mm: its value
+// at the closest point on the file's faces. Read before the solve, so a bad file fails at once.
 std::function<double(const Vec3&)> input_field(const PipelineConfig& c, const PlacedSurface& placed,
                                                const std::string& property, const std::string& option) {
   if (c.mesh.empty() || lowercase_extension(c.mesh) != ".ply")
@@ -222,7 +221,7 @@ std::function<double(const Vec3&)> input_field(const PipelineConfig& c, const Pl
                      property + "' vertex property (--mesh FILE.ply)");
   auto field = std::make_shared<const VertexScalarField>(VertexScalarField::read_ply(c.mesh, property));
   const double mm_per_unit = placed.input.millimetres_per_unit;
-  return [field, &placed, mm_per_unit](const Vec3& x) { return field->at(placed.to_mm(x) / mm_per_unit); };
+  return [field, mm_per_unit](const Vec3& x_mm) { return field->at(x_mm / mm_per_unit); };
 }
 
 // Per band voxel, how solid the wall must stay (0 free, 1 solid): rims, keep-out spheres and a keep-out
@@ -247,7 +246,7 @@ std::vector<double> solid_zones(const PipelineConfig& c, const PlacedSurface& pl
   if (!c.keep_out_mask.empty()) {
     const auto mask = input_field(c, placed, c.keep_out_mask, "--keep-out-mask");
     for (std::size_t v = 0; v < band.size(); ++v) {
-      const double m = mask(band.grid().position(band.voxels()[v]));
+      const double m = mask(placed.to_mm(band.grid().position(band.voxels()[v])));
       weight[v] = std::max(weight[v], std::clamp(2.0 * (m - 0.25), 0.0, 1.0));
     }
   }
@@ -259,8 +258,9 @@ std::vector<double> solid_zones(const PipelineConfig& c, const PlacedSurface& pl
 constexpr double kCoarsestVoxelPerPlanned = 1.25;
 
 // Hole-size grading: phi shifted per voxel so that {phi > level} has the graded holes.
-void grade_holes(const PipelineConfig& c, const PlacedSurface& placed, const NarrowBand& band,
-                 std::vector<double>& phi, PipelineResult& result) {
+void grade_holes(const GradeSpec& grade, const std::function<double(const Vec3&)>& field,
+                 const PlacedSurface& placed, const NarrowBand& band, std::vector<double>& phi,
+                 PipelineResult& result) {
   Box bounds{Vec3::Constant(std::numeric_limits<double>::infinity()),
              Vec3::Constant(-std::numeric_limits<double>::infinity())};
   std::vector<Vec3> positions(band.size());
@@ -270,12 +270,7 @@ void grade_holes(const PipelineConfig& c, const PlacedSurface& placed, const Nar
     bounds.max = bounds.max.cwiseMax(positions[v]);
   }
   const PatternPlan& plan = *result.plan;
-  std::function<double(const Vec3&)> field;
-  if (c.grade->kind == GradeSpec::Kind::field) {
-    const auto in_grid = input_field(c, placed, c.grade->property, "--grade field:" + c.grade->property);
-    field = [in_grid, &placed](const Vec3& x_mm) { return in_grid(placed.from_mm(x_mm)); };
-  }
-  const auto diameter_at = graded_diameter(*c.grade, bounds, plan.diameter, field);
+  const auto diameter_at = graded_diameter(grade, bounds, plan.diameter, field);
   result.grading = apply_grading(phi, positions, plan.spacing, plan.level, diameter_at);
 }
 
@@ -347,6 +342,19 @@ PipelineResult run_pipeline(const PipelineConfig& given) {
   result.grid_dims = grid.dims();
   result.h = grid.h();
   check_memory(config, placed, grid.h() * placed.mm_per_grid());
+  // The wall: asked for (shell), or the band's width 2 delta (the default shell, the narrow volume).
+  result.solid.wall_mm = config.mode == "shell" && config.wall > 0.0
+                             ? config.wall
+                             : 2.0 * BandOptions{}.delta_in_h * grid.h() * placed.mm_per_grid();
+  if (config.max_triangles > 0 && config.max_deviation > 0.25 * result.solid.wall_mm)
+    throw InputError("--max-deviation " + std::to_string(config.max_deviation) +
+                     " mm is more than a quarter of the " + std::to_string(result.solid.wall_mm) +
+                     " mm wall: the reduced wall's two sides could meet; use at most " +
+                     std::to_string(0.25 * result.solid.wall_mm) + " mm");
+  std::function<double(const Vec3&)> grade_field;
+  if (config.grade && config.grade->kind == GradeSpec::Kind::field)
+    grade_field =
+        input_field(config, placed, config.grade->property, "--grade field:" + config.grade->property);
 
   t = std::chrono::steady_clock::now();
   const NarrowBand band = build_band(*placed.surface, grid);
@@ -401,22 +409,16 @@ PipelineResult run_pipeline(const PipelineConfig& given) {
 
   // Build and check every mesh before writing any, so a failed check leaves no output at all.
   t = std::chrono::steady_clock::now();
-  if (config.grade) grade_holes(config, placed, band, phi, result);
+  if (config.grade) grade_holes(*config.grade, grade_field, placed, band, phi, result);
   SideTest side;
   std::optional<ShellSamples> shell;
   if (config.mode == "shell") {
     make_side_test(config, placed, grid.h(), side);
     shell = sample_printable_shell(config, placed, band, phi, side.side, result);
   } else {
-    result.solid.wall_mm = 2.0 * BandOptions{}.delta_in_h * grid.h() * placed.mm_per_grid();
     result.solid.spacing_mm = grid.h() * placed.mm_per_grid();
   }
   result.solid.offset = config.offset;
-  if (config.max_triangles > 0 && config.max_deviation > 0.25 * result.solid.wall_mm)
-    throw InputError("--max-deviation " + std::to_string(config.max_deviation) +
-                     " mm is more than a quarter of the " + std::to_string(result.solid.wall_mm) +
-                     " mm wall: the reduced wall's two sides could meet; use at most " +
-                     std::to_string(0.25 * result.solid.wall_mm) + " mm");
   // The unperforated solid gives the reference Euler characteristic: each pore is one tunnel, so
   // pores = (chi0 - chi) / 2. Computed, not derived from the input's topology, because the band closes
   // holes narrower than about 2 delta (a scan's small holes) and may merge close sheets.
