@@ -87,8 +87,23 @@ TEST(Band, GhostsCloseTheLaplacianStencil) {
       const std::int32_t idx = band.neighbor(v, k);
       ASSERT_GE(idx, 0);
       ASSERT_LT(idx, static_cast<std::int32_t>(band.extended_size()));
+      const Coord c = band.voxels()[v];
+      const int axis = k / 2, step = (k % 2) ? 1 : -1;
+      const Coord expected{c.i + (axis == 0 ? step : 0), c.j + (axis == 1 ? step : 0),
+                           c.k + (axis == 2 ? step : 0)};
+      const Coord at = idx < nb ? band.voxels()[static_cast<std::size_t>(idx)]
+                                : band.ghosts()[static_cast<std::size_t>(idx - nb)];
+      EXPECT_TRUE(at.i == expected.i && at.j == expected.j && at.k == expected.k) << "neighbour " << k;
       if (idx >= nb) ++ghost_used[static_cast<std::size_t>(idx - nb)];
     }
+  for (int parity = 0; parity < 2; ++parity) {
+    const auto [begin, end] = band.ghosts_of_parity(parity);
+    EXPECT_LT(begin, end);
+    for (std::size_t gi = begin; gi < end; ++gi) {
+      const Coord c = band.ghosts()[gi];
+      EXPECT_EQ((c.i + c.j + c.k) & 1, parity);
+    }
+  }
   for (std::size_t gi = 0; gi < ghost_used.size(); ++gi) {
     EXPECT_GT(ghost_used[gi], 0);
     EXPECT_LT(band.find(band.ghosts()[gi]), 0);  // ghosts are outside the band
@@ -110,9 +125,15 @@ TEST(Band, StencilsInterpolateLinearFunctionsExactlyAtTheClosestPoint) {
   for (std::size_t gi = 0; gi < band.ghost_count(); ++gi) {
     const GhostStencil& s = band.stencils()[gi];
     double wsum = 0;
-    for (double w : s.weight) {
-      EXPECT_GE(w, -1e-15);
-      wsum += w;
+    for (int c = 0; c < 8; ++c) {
+      EXPECT_GE(s.weight(c), -1e-15);
+      wsum += s.weight(c);
+      // Corner c is the voxel (di, dj, dk) from corner 0: the compact stencil's x-neighbour rule holds.
+      const Coord base = band.voxels()[static_cast<std::size_t>(s.corner(0))];
+      const Coord at = band.voxels()[static_cast<std::size_t>(s.corner(c))];
+      EXPECT_EQ(at.i - base.i, c & 1);
+      EXPECT_EQ(at.j - base.j, (c >> 1) & 1);
+      EXPECT_EQ(at.k - base.k, c >> 2);
     }
     EXPECT_NEAR(wsum, 1.0, 1e-12);
     const Vec3 cp = *torus->closest_point(g.position(band.ghosts()[gi]));

@@ -45,6 +45,44 @@ double max_abs_difference(std::span<const double> a, std::span<const double> b) 
 
 }  // namespace
 
+// The level transfers interpolate linear functions exactly, in both storage forms: the compact one (all
+// 8 corners in the band) at closest points, and the renormalised partial one at points off the surface
+// whose cells stick out of the band.
+TEST(BandInterpolation, ExactForLinearFunctionsInBothForms) {
+  const Case c("sphere", 41);
+  const auto linear = [](const Vec3& p) { return 0.3 + 2.0 * p.x() - 1.5 * p.y() + 0.7 * p.z(); };
+  std::vector<double> values(c.band.size());
+  for (std::size_t v = 0; v < c.band.size(); ++v) values[v] = linear(c.grid.position(c.band.voxels()[v]));
+  std::vector<Vec3> points;
+  for (int i = 0; i < 200; ++i) {
+    const double u = 0.1 + 0.031 * i, w = 0.7 + 0.017 * i;
+    const Vec3 on_sphere =
+        Vec3(0.5, 0.5, 0.5) +
+        kPaperShapeRadius * Vec3(std::sin(u) * std::cos(w), std::sin(u) * std::sin(w), std::cos(u));
+    points.push_back(on_sphere);
+  }
+  // Off the surface by 1.6 h: cells there reach out of the band (delta = 1.9 h), so some corners are missing.
+  std::size_t partial = 0;
+  const std::size_t on_surface = points.size();
+  for (std::size_t i = 0; i < on_surface; ++i) {
+    const Vec3 out = points[i] + 1.6 * c.grid.h() * (points[i] - Vec3(0.5, 0.5, 0.5)).normalized();
+    const PointStencil s = interpolation_stencil(c.band, out);
+    if (s.present_weight > 1e-3 && s.present_weight < 1.0) {
+      points.push_back(out);
+      ++partial;
+    }
+  }
+  ASSERT_GT(partial, 10u);
+  const BandInterpolation transfer(c.band, points);
+  for (std::size_t i = 0; i < on_surface; ++i)
+    EXPECT_NEAR(transfer.at(i, values), linear(points[i]), 1e-6) << "compact form, point " << i;
+  // The partial form renormalises the present corners' weights: exact where a linear function's values
+  // are, i.e. it interpolates the same function as PointStencil.
+  for (std::size_t i = on_surface; i < points.size(); ++i)
+    EXPECT_NEAR(transfer.at(i, values), interpolation_stencil(c.band, points[i]).interpolate(values), 1e-6)
+        << "partial form, point " << i;
+}
+
 // (z - L) x = b against Eigen's SparseLU on the same ghost-eliminated matrix, for the two shifts the
 // fast solver uses at the paper's parameters (z h^2 ~ 0.04 and ~ 1) and on a sphere and a torus.
 TEST(BandMultigrid, SolvesTheShiftedLaplacianLikeADirectSolver) {

@@ -20,6 +20,10 @@ Coord add(const Coord& a, const Coord& b) {
   return {a.i + b.i, a.j + b.j, a.k + b.k};
 }
 
+int parity(const Coord& c) {
+  return (c.i + c.j + c.k) & 1;
+}
+
 // psi and its central-difference gradient grad_h psi at a grid point (section 2).
 struct LevelSetSample {
   double psi;
@@ -160,32 +164,24 @@ namespace {
 // Small bands (coarse multigrid levels) run as one task rather than paying the scheduler per ghost.
 constexpr std::size_t kGhostGrain = 1024;
 
-template <class GhostOf>
-void fill_ghost_range(const std::vector<GhostStencil>& stencils, std::size_t n, std::size_t count,
-                      const GhostOf& ghost_of, std::span<double> extended) {
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kGhostGrain),
+void fill_ghost_range(const std::vector<GhostStencil>& stencils, std::size_t n, std::size_t begin,
+                      std::size_t end, std::span<double> extended) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(begin, end, kGhostGrain),
                     [&](const tbb::blocked_range<std::size_t>& r) {
-                      for (std::size_t i = r.begin(); i != r.end(); ++i) {
-                        const std::size_t g = ghost_of(i);
-                        const GhostStencil& s = stencils[g];
-                        double v = 0.0;
-                        for (int c = 0; c < 8; ++c) v += s.weight[c] * extended[s.corner[c]];
-                        extended[n + g] = v;
-                      }
+                      for (std::size_t g = r.begin(); g != r.end(); ++g)
+                        extended[n + g] = stencils[g].interpolate(extended.data());
                     });
 }
 
 }  // namespace
 
 void NarrowBand::fill_ghosts(std::span<double> extended) const {
-  fill_ghost_range(
-      stencils_, voxels_.size(), stencils_.size(), [](std::size_t i) { return i; }, extended);
+  fill_ghost_range(stencils_, voxels_.size(), 0, stencils_.size(), extended);
 }
 
-void NarrowBand::fill_ghosts(std::span<double> extended, std::span<const std::uint32_t> ghosts) const {
-  fill_ghost_range(
-      stencils_, voxels_.size(), ghosts.size(), [&](std::size_t i) { return std::size_t{ghosts[i]}; },
-      extended);
+void NarrowBand::fill_ghosts(std::span<double> extended, int parity) const {
+  const auto [begin, end] = ghosts_of_parity(parity);
+  fill_ghost_range(stencils_, voxels_.size(), begin, end, extended);
 }
 
 std::size_t NarrowBand::memory_bytes() const {
@@ -224,6 +220,9 @@ NarrowBand build_band(const Surface& surface, const Grid& grid, const BandOption
       }
     std::sort(ghost_keys.begin(), ghost_keys.end());
     ghost_keys.erase(std::unique(ghost_keys.begin(), ghost_keys.end()), ghost_keys.end());
+    const auto even = std::stable_partition(ghost_keys.begin(), ghost_keys.end(),
+                                            [&](std::int64_t key) { return parity(grid.coord(key)) == 0; });
+    band.odd_ghosts_begin_ = static_cast<std::size_t>(even - ghost_keys.begin());
     band.ghosts_.resize(ghost_keys.size());
     for (std::size_t g = 0; g < ghost_keys.size(); ++g) band.ghosts_[g] = grid.coord(ghost_keys[g]);
 
@@ -239,12 +238,11 @@ NarrowBand build_band(const Surface& surface, const Grid& grid, const BandOption
                        static_cast<int>(std::floor(q.z()))};
       const Vec3 t = q - Vec3(base.i, base.j, base.k);
       GhostStencil& s = band.stencils_[g];
+      s.t = {t.x(), t.y(), t.z()};
       for (int corner = 0; corner < 8; ++corner) {
-        const int di = corner & 1, dj = (corner >> 1) & 1, dk = (corner >> 2) & 1;
-        const Coord cc{base.i + di, base.j + dj, base.k + dk};
-        s.weight[corner] = (di ? t.x() : 1 - t.x()) * (dj ? t.y() : 1 - t.y()) * (dk ? t.z() : 1 - t.z());
+        const Coord cc{base.i + (corner & 1), base.j + ((corner >> 1) & 1), base.k + (corner >> 2)};
         const std::int64_t idx = band.find(cc);
-        s.corner[corner] = static_cast<std::int32_t>(std::max<std::int64_t>(idx, 0));
+        if ((corner & 1) == 0) s.row[corner >> 1] = static_cast<std::int32_t>(std::max<std::int64_t>(idx, 0));
         if (idx < 0) {
           if (!grid.contains(cc)) throw InputError("a closest point lies outside the grid: add padding");
           missing[g].push_back(grid.key(cc));
@@ -272,9 +270,11 @@ NarrowBand build_band(const Surface& surface, const Grid& grid, const BandOption
       const Coord nb = add(band.voxels_[v], kOffsets[o]);
       std::int64_t idx = band.find(nb);
       if (idx < 0) {
-        const std::int64_t key = grid.key(nb);
-        const auto it = std::lower_bound(band.ghosts_.begin(), band.ghosts_.end(), key,
-                                         [&](const Coord& a, std::int64_t b) { return grid.key(a) < b; });
+        const auto [begin, end] = band.ghosts_of_parity(parity(nb));
+        const auto first = band.ghosts_.begin() + static_cast<std::ptrdiff_t>(begin);
+        const auto it =
+            std::lower_bound(first, band.ghosts_.begin() + static_cast<std::ptrdiff_t>(end), grid.key(nb),
+                             [&](const Coord& a, std::int64_t b) { return grid.key(a) < b; });
         idx = n + (it - band.ghosts_.begin());
       }
       band.neighbors_[v * NarrowBand::kNeighbors + o] = static_cast<std::int32_t>(idx);

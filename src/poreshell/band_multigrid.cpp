@@ -41,23 +41,6 @@ std::vector<Vec3> voxel_closest_points(const NarrowBand& band, const Surface& su
   return cps;
 }
 
-// The shared trilinear stencil, stored with float weights (transfers carry corrections only).
-TransferStencil transfer_stencil(const NarrowBand& band, const Vec3& p) {
-  const PointStencil point = interpolation_stencil(band, p);
-  if (!(point.present_weight > 1e-6))
-    throw std::runtime_error("multigrid: a closest point has no band voxel around it");
-  TransferStencil s;
-  s.corner = point.corner;
-  for (int c = 0; c < 8; ++c) s.weight[c] = static_cast<float>(point.weight[c]);
-  return s;
-}
-
-double interpolate(const TransferStencil& s, const std::vector<double>& values) {
-  double v = 0.0;
-  for (int c = 0; c < 8; ++c) v += static_cast<double>(s.weight[c]) * values[s.corner[c]];
-  return v;
-}
-
 // The grid of spacing h that holds the surface's band with kPadCells of margin.
 Grid covering_grid(const Surface& surface, double h) {
   const Box box = surface.bounds();
@@ -69,6 +52,50 @@ Grid covering_grid(const Surface& surface, double h) {
 }
 
 }  // namespace
+
+BandInterpolation::BandInterpolation(const NarrowBand& from, std::span<const Vec3> points)
+    : compact_(points.size()) {
+  const Grid& grid = from.grid();
+  tbb::parallel_for(std::size_t{0}, points.size(), [&](std::size_t i) {
+    const Vec3 q = grid.to_index_space(points[i]);
+    const Coord base{static_cast<int>(std::floor(q.x())), static_cast<int>(std::floor(q.y())),
+                     static_cast<int>(std::floor(q.z()))};
+    Compact& s = compact_[i];
+    for (int r = 0; r < 4; ++r) {
+      const Coord c{base.i, base.j + (r & 1), base.k + (r >> 1)};
+      const std::int64_t at = from.find(c), next = from.find({c.i + 1, c.j, c.k});
+      if (at < 0 || next != at + 1) {
+        s.row[0] = -1;  // marked: a partial stencil below
+        return;
+      }
+      s.row[static_cast<std::size_t>(r)] = static_cast<std::int32_t>(at);
+    }
+    for (int a = 0; a < 3; ++a)
+      s.t[static_cast<std::size_t>(a)] = static_cast<float>(q[a] - std::floor(q[a]));
+  });
+  for (std::size_t i = 0; i < points.size(); ++i) {  // rare: in order, so the numbering is deterministic
+    if (compact_[i].row[0] >= 0) continue;
+    const PointStencil point = interpolation_stencil(from, points[i]);
+    if (!(point.present_weight > 1e-6))
+      throw std::runtime_error("multigrid: a closest point has no band voxel around it");
+    Partial p;
+    p.corner = point.corner;
+    for (int c = 0; c < 8; ++c) p.weight[static_cast<std::size_t>(c)] = static_cast<float>(point.weight[c]);
+    partial_.push_back(p);
+    compact_[i].row[0] = -static_cast<std::int32_t>(partial_.size());
+  }
+}
+
+double BandInterpolation::partial_at(const Partial& s, std::span<const double> values) {
+  double v = 0.0;
+  for (int c = 0; c < 8; ++c)
+    v += static_cast<double>(s.weight[c]) * values[static_cast<std::size_t>(s.corner[c])];
+  return v;
+}
+
+std::size_t BandInterpolation::memory_bytes() const {
+  return compact_.capacity() * sizeof(Compact) + partial_.capacity() * sizeof(Partial);
+}
 
 BandMultigrid::BandMultigrid(const NarrowBand& fine, const Surface& surface, double z_min) {
   if (!(z_min > 0.0)) throw std::invalid_argument("multigrid: the shift must be positive");
@@ -82,14 +109,8 @@ BandMultigrid::BandMultigrid(const NarrowBand& fine, const Surface& surface, dou
     auto coarse = std::make_unique<NarrowBand>(build_band(surface, covering_grid(surface, 2.0 * h)));
     std::vector<Vec3> cps = voxel_closest_points(*coarse, surface);
     Level level;
-    level.from_finer.resize(coarse->size());
-    tbb::parallel_for(std::size_t{0}, coarse->size(),
-                      [&](std::size_t v) { level.from_finer[v] = transfer_stencil(finer, cps[v]); });
-    Level& finer_level = levels_.back();
-    finer_level.to_coarser.resize(finer.size());
-    tbb::parallel_for(std::size_t{0}, finer.size(), [&](std::size_t v) {
-      finer_level.to_coarser[v] = transfer_stencil(*coarse, finer_cps[v]);
-    });
+    level.from_finer = BandInterpolation(finer, cps);
+    levels_.back().to_coarser = BandInterpolation(*coarse, finer_cps);
     level.owned = std::move(coarse);
     level.band = level.owned.get();
     levels_.push_back(std::move(level));
@@ -109,17 +130,13 @@ BandMultigrid::BandMultigrid(const NarrowBand& fine, const Surface& surface, dou
         if (nb < n) continue;
         const GhostStencil& s = stencils[nb - n];
         for (int c = 0; c < 8; ++c)
-          if (static_cast<std::size_t>(s.corner[c]) == v) self += s.weight[c];
+          if (static_cast<std::size_t>(s.corner(c)) == v) self += s.weight(c);
       }
       level.inverse_diagonal_base[v] = 6.0 - self;
     });
     for (std::size_t v = 0; v < n; ++v) {
       const Coord c = band.voxels()[v];
       level.colours[(c.i + c.j + c.k) & 1].push_back(static_cast<std::uint32_t>(v));
-    }
-    for (std::size_t g = 0; g < band.ghost_count(); ++g) {
-      const Coord c = band.ghosts()[g];
-      level.ghost_colours[(c.i + c.j + c.k) & 1].push_back(static_cast<std::uint32_t>(g));
     }
     level.x.assign(band.extended_size(), 0.0);
     level.b.assign(n, 0.0);
@@ -133,12 +150,10 @@ std::size_t BandMultigrid::memory_bytes() const {
   for (const Level& l : levels_) {
     if (l.owned) bytes += l.owned->memory_bytes();
     bytes += (l.inverse_diagonal_base.capacity() + l.x.capacity() +
-              (l.colours[0].capacity() + l.colours[1].capacity() + l.ghost_colours[0].capacity() +
-               l.ghost_colours[1].capacity()) /
-                  2 +
-              l.b.capacity() + l.r.capacity() + l.averaged.capacity()) *
+              (l.colours[0].capacity() + l.colours[1].capacity()) / 2 + l.b.capacity() + l.r.capacity() +
+              l.averaged.capacity()) *
                  sizeof(double) +
-             (l.from_finer.capacity() + l.to_coarser.capacity()) * sizeof(TransferStencil);
+             l.from_finer.memory_bytes() + l.to_coarser.memory_bytes();
   }
   return bytes;
 }
@@ -171,7 +186,7 @@ void BandMultigrid::smooth(Level& level, double z, int sweeps) {
   for (int s = 0; s < sweeps; ++s)
     for (int colour = 0; colour < 2; ++colour) {
       // A voxel's 6 neighbours have the other parity: only those ghosts need fresh values.
-      band.fill_ghosts(level.x, level.ghost_colours[1 - colour]);
+      band.fill_ghosts(level.x, 1 - colour);
       const auto& set = level.colours[colour];
       for_each_index(set.size(), [&](std::size_t i) {
         const std::size_t v = set[i];
@@ -210,11 +225,10 @@ void BandMultigrid::v_cycle(std::size_t l, std::size_t last, double z) {
   });
   Level& coarse = levels_[l + 1];
   for_each_index(coarse.band->size(),
-                 [&](std::size_t v) { coarse.b[v] = interpolate(coarse.from_finer[v], fine.averaged); });
+                 [&](std::size_t v) { coarse.b[v] = coarse.from_finer.at(v, fine.averaged); });
   std::fill(coarse.x.begin(), coarse.x.end(), 0.0);
   v_cycle(l + 1, last, z);
-  for_each_index(fine.band->size(),
-                 [&](std::size_t v) { fine.x[v] += interpolate(fine.to_coarser[v], coarse.x); });
+  for_each_index(fine.band->size(), [&](std::size_t v) { fine.x[v] += fine.to_coarser.at(v, coarse.x); });
   smooth(fine, z, kSmoothingSweeps);
 }
 

@@ -20,11 +20,41 @@
 
 namespace poreshell {
 
-// Trilinear interpolation from band values: 8 corners and weights (float: only the transfer operators
-// use it, and they are corrections).
-struct TransferStencil {
-  std::array<std::int32_t, 8> corner{};
-  std::array<float, 8> weight{};
+// Trilinear interpolation from a band's values at fixed points (the closest points of another level's
+// voxels): the transfers between levels. Where the point's cell has all 8 corners in the band (nearly
+// everywhere) it is stored like a GhostStencil with float fractions, 28 bytes; the few others keep
+// their present corners with renormalised weights. Float: transfers carry corrections only.
+class BandInterpolation {
+ public:
+  BandInterpolation() = default;
+  BandInterpolation(const NarrowBand& from, std::span<const Vec3> points);
+
+  double at(std::size_t i, std::span<const double> values) const {
+    const Compact& s = compact_[i];
+    if (s.row[0] < 0) return partial_at(partial_[static_cast<std::size_t>(-s.row[0] - 1)], values);
+    const auto along_x = [&](int r) {
+      const double* v = values.data() + s.row[static_cast<std::size_t>(r)];
+      return v[0] + s.t[0] * (v[1] - v[0]);
+    };
+    const double low = along_x(0) + s.t[1] * (along_x(1) - along_x(0));
+    const double high = along_x(2) + s.t[1] * (along_x(3) - along_x(2));
+    return low + s.t[2] * (high - low);
+  }
+  std::size_t memory_bytes() const;
+
+ private:
+  struct Compact {
+    std::array<std::int32_t, 4> row{};  // as GhostStencil; row[0] < 0: partial_[-row[0] - 1]
+    std::array<float, 3> t{};
+  };
+  struct Partial {
+    std::array<std::int32_t, 8> corner{};
+    std::array<float, 8> weight{};
+  };
+  static double partial_at(const Partial& s, std::span<const double> values);
+
+  std::vector<Compact> compact_;
+  std::vector<Partial> partial_;
 };
 
 struct MultigridSolveReport {
@@ -53,13 +83,13 @@ class BandMultigrid {
   struct Level {
     std::unique_ptr<NarrowBand> owned;  // coarse levels own their band; level 0 borrows the fine one
     const NarrowBand* band = nullptr;
-    std::vector<double> inverse_diagonal_base;    // 6 - self weight: h^2 (diagonal - z)
-    std::vector<std::uint32_t> colours[2];        // red-black sets, (i + j + k) even / odd
-    std::vector<std::uint32_t> ghost_colours[2];  // ghosts by the same parity: colour c reads 1 - c
-    std::vector<TransferStencil> from_finer;      // restriction: into the finer band at this voxel's cp
-    std::vector<TransferStencil> to_coarser;      // prolongation: into the coarser band at this voxel's cp
-    std::vector<double> x, r;                     // extended (band + ghosts)
-    std::vector<double> b, averaged;              // band
+    std::vector<double> inverse_diagonal_base;  // 6 - self weight: h^2 (diagonal - z)
+    std::vector<std::uint32_t>
+        colours[2];                // red-black sets, (i + j + k) even / odd: colour c reads ghosts of 1 - c
+    BandInterpolation from_finer;  // restriction: into the finer band at this voxel's cp
+    BandInterpolation to_coarser;  // prolongation: into the coarser band at this voxel's cp
+    std::vector<double> x, r;      // extended (band + ghosts)
+    std::vector<double> b, averaged;  // band
   };
 
   void smooth(Level& level, double z, int sweeps);  // red-black Gauss-Seidel

@@ -32,7 +32,7 @@ SparseMatrix laplacian_matrix(const NarrowBand& band) {
       }
       const GhostStencil& s = stencils[static_cast<std::size_t>(nb - n)];
       for (int c = 0; c < 8; ++c)
-        if (s.weight[c] != 0.0) entries.emplace_back(row, s.corner[c], s.weight[c] * inv_h2);
+        if (s.weight(c) != 0.0) entries.emplace_back(row, s.corner(c), s.weight(c) * inv_h2);
     }
   }
   SparseMatrix L(static_cast<int>(n), static_cast<int>(n));
