@@ -162,6 +162,39 @@ TEST(MeshTopology, TorusHasEulerZero) {
   EXPECT_LT(t.signed_volume, exact);
 }
 
+// Large meshes are checked in passes over vertex ranges: any table budget gives the same counts, defects
+// included (a torus, a flipped triangle, an open face, two boxes on an edge, a second component).
+TEST(MeshTopology, EdgeTablePassesGiveTheSameCounts) {
+  MeshBuilder b;
+  const int nu = 24, nv = 12;
+  auto p = [&](int i, int j) {
+    const double u = 2 * std::numbers::pi * (i % nu) / nu, v = 2 * std::numbers::pi * (j % nv) / nv;
+    return Vec3((3 + std::cos(v)) * std::cos(u), (3 + std::cos(v)) * std::sin(u), std::sin(v));
+  };
+  for (int i = 0; i < nu; ++i)
+    for (int j = 0; j < nv; ++j) b.quad(p(i, j), p(i + 1, j), p(i + 1, j + 1), p(i, j + 1));
+  std::swap(b.mesh.triangles[7][1], b.mesh.triangles[7][2]);
+  b.box(Vec3(10, 0, 0), Vec3(11, 1, 1));
+  b.box(Vec3(11, 1, 0), Vec3(12, 2, 1));
+  b.mesh.triangles.pop_back();
+  b.tetrahedron(Vec3(20, 0, 0), 1.0);
+  const MeshTopology whole = analyze_topology(b.mesh);
+  EXPECT_EQ(whole.misoriented_edges, 3);
+  EXPECT_EQ(whole.nonmanifold_edges, 1);
+  EXPECT_GT(whole.boundary_edges, 0);
+  EXPECT_EQ(whole.components, 3);
+  for (std::size_t bytes : {std::size_t{1}, std::size_t{64}, std::size_t{4096}}) {
+    const MeshTopology t = analyze_topology(b.mesh, bytes);
+    EXPECT_EQ(t.edges, whole.edges) << bytes;
+    EXPECT_EQ(t.boundary_edges, whole.boundary_edges) << bytes;
+    EXPECT_EQ(t.nonmanifold_edges, whole.nonmanifold_edges) << bytes;
+    EXPECT_EQ(t.misoriented_edges, whole.misoriented_edges) << bytes;
+    EXPECT_EQ(t.nonmanifold_vertices, whole.nonmanifold_vertices) << bytes;
+    EXPECT_EQ(t.components, whole.components) << bytes;
+    EXPECT_EQ(t.euler_characteristic, whole.euler_characteristic) << bytes;
+  }
+}
+
 TEST(MeshTopology, DegenerateTrianglesAreCounted) {
   MeshBuilder b;
   b.tetrahedron(Vec3(0, 0, 0), 1.0);

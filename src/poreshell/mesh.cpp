@@ -13,15 +13,17 @@
 #include <cmath>
 #include <numbers>
 #include <numeric>
+#include <stdexcept>
 #include <utility>
 
 namespace poreshell {
 namespace {
 
-// Union-find with path halving; small and allocation-free after construction.
+// Union-find with path halving; small and allocation-free after construction. 32-bit: triangle and
+// vertex indices are int32 in TriangleMesh.
 class DisjointSets {
  public:
-  explicit DisjointSets(std::size_t n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0); }
+  explicit DisjointSets(std::size_t n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0u); }
   std::size_t find(std::size_t x) {
     while (parent_[x] != x) x = parent_[x] = parent_[parent_[x]];
     return x;
@@ -29,17 +31,21 @@ class DisjointSets {
   void unite(std::size_t a, std::size_t b) {
     a = find(a);
     b = find(b);
-    if (a != b) parent_[std::max(a, b)] = std::min(a, b);
+    if (a != b) parent_[std::max(a, b)] = static_cast<std::uint32_t>(std::min(a, b));
   }
 
  private:
-  std::vector<std::size_t> parent_;
+  std::vector<std::uint32_t> parent_;
 };
 
+// One triangle's side: the undirected edge and its direction in one sortable word, (min vertex << 32 |
+// max vertex) << 1 | forward (indices are below 2^31), and the triangle. 16 bytes: at 24 M triangles the
+// table is the largest array of the whole run, so it is also built in vertex ranges (below).
 struct EdgeRecord {
-  std::uint64_t key;  // (min vertex << 32) | max vertex
-  std::int64_t tri;   // triangle index
-  bool forward;       // traversed from min to max
+  std::uint64_t key;
+  std::uint32_t tri;
+  std::uint64_t edge() const { return key >> 1; }
+  bool forward() const { return key & 1; }
 };
 
 std::uint64_t edge_key(std::int32_t a, std::int32_t b) {
@@ -71,13 +77,13 @@ std::int64_t count_nonmanifold_vertices(const TriangleMesh& mesh, const std::vec
     if (!has_repeated_index(t))
       for (std::int32_t v : t) ++start[v + 1];
   std::partial_sum(start.begin(), start.end(), start.begin());
-  std::vector<std::int64_t> incident(static_cast<std::size_t>(start[nv]));
+  std::vector<std::uint32_t> incident(static_cast<std::size_t>(start[nv]));
   {
     std::vector<std::int64_t> fill(start.begin(), start.end() - 1);
     for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
       const auto& t = mesh.triangles[f];
       if (has_repeated_index(t)) continue;
-      for (std::int32_t v : t) incident[fill[v]++] = static_cast<std::int64_t>(f);
+      for (std::int32_t v : t) incident[fill[v]++] = static_cast<std::uint32_t>(f);
     }
   }
   return tbb::parallel_reduce(
@@ -123,18 +129,16 @@ double largest_angle_cosine(const TriangleMesh& mesh, const std::array<std::int3
 
 }  // namespace
 
-MeshTopology analyze_topology(const TriangleMesh& mesh) {
+MeshTopology analyze_topology(const TriangleMesh& mesh, std::size_t edge_table_bytes) {
   MeshTopology topo;
   const std::size_t nf = mesh.triangles.size();
   const std::size_t nv = mesh.vertices.size();
   topo.triangles = static_cast<std::int64_t>(nf);
 
+  if (nf >= std::size_t{1} << 31) throw std::invalid_argument("analyze_topology: over 2^31 triangles");
   std::vector<char> used(nv, 0);
   double min_cos = -1.0;  // cosine of the smallest angle seen
-  std::vector<EdgeRecord> edges;
-  edges.reserve(3 * nf);
-  for (std::size_t f = 0; f < nf; ++f) {
-    const auto& t = mesh.triangles[f];
+  for (const auto& t : mesh.triangles) {
     for (std::int32_t v : t) used.at(static_cast<std::size_t>(v)) = 1;  // at(): bad indices throw
     if (has_repeated_index(t)) {
       ++topo.degenerate_triangles;
@@ -142,30 +146,46 @@ MeshTopology analyze_topology(const TriangleMesh& mesh) {
     }
     if (zero_area(mesh, t)) ++topo.degenerate_triangles;
     min_cos = std::max(min_cos, largest_angle_cosine(mesh, t));
-    for (int c = 0; c < 3; ++c) {
-      const std::int32_t a = t[c], b = t[(c + 1) % 3];
-      edges.push_back({edge_key(a, b), static_cast<std::int64_t>(f), a < b});
-    }
   }
   topo.vertices = std::count(used.begin(), used.end(), char{1});
   topo.min_angle_degrees = nf ? std::acos(std::clamp(min_cos, -1.0, 1.0)) * 180.0 / std::numbers::pi : 0.0;
 
-  tbb::parallel_sort(edges.begin(), edges.end(), [](const EdgeRecord& x, const EdgeRecord& y) {
-    return x.key != y.key ? x.key < y.key : x.tri < y.tri;
-  });
-
+  // Edges sorted in passes over ranges of their smaller vertex, so the table stays under
+  // edge_table_bytes however large the mesh (an edge's records all fall in one pass).
+  const std::size_t records = 3 * nf;
+  const std::size_t passes =
+      std::max<std::size_t>(1, records * sizeof(EdgeRecord) / std::max<std::size_t>(1, edge_table_bytes) + 1);
+  const std::size_t per_pass = nv / passes + 1;
   DisjointSets components(nf);
-  for (std::size_t i = 0; i < edges.size();) {
-    std::size_t j = i + 1;
-    while (j < edges.size() && edges[j].key == edges[i].key) ++j;
-    const std::size_t n = j - i;
-    ++topo.edges;
-    if (n == 1) ++topo.boundary_edges;
-    if (n > 2) ++topo.nonmanifold_edges;
-    if (n == 2 && edges[i].forward == edges[i + 1].forward) ++topo.misoriented_edges;
-    for (std::size_t k = i + 1; k < j; ++k)
-      components.unite(static_cast<std::size_t>(edges[i].tri), static_cast<std::size_t>(edges[k].tri));
-    i = j;
+  std::vector<EdgeRecord> edges;
+  edges.reserve(std::min(records, 2 * records / passes + 64));
+  for (std::size_t pass = 0; pass < passes; ++pass) {
+    const std::size_t first = pass * per_pass, last = first + per_pass;
+    edges.clear();
+    for (std::size_t f = 0; f < nf; ++f) {
+      const auto& t = mesh.triangles[f];
+      if (has_repeated_index(t)) continue;
+      for (int c = 0; c < 3; ++c) {
+        const std::int32_t a = t[c], b = t[(c + 1) % 3];
+        const auto low = static_cast<std::size_t>(std::min(a, b));
+        if (low >= first && low < last)
+          edges.push_back({edge_key(a, b) << 1 | std::uint64_t{a < b}, static_cast<std::uint32_t>(f)});
+      }
+    }
+    // By edge, then direction: the counts below do not depend on the order within a group.
+    tbb::parallel_sort(edges.begin(), edges.end(),
+                       [](const EdgeRecord& x, const EdgeRecord& y) { return x.key < y.key; });
+    for (std::size_t i = 0; i < edges.size();) {
+      std::size_t j = i + 1;
+      while (j < edges.size() && edges[j].edge() == edges[i].edge()) ++j;
+      const std::size_t n = j - i;
+      ++topo.edges;
+      if (n == 1) ++topo.boundary_edges;
+      if (n > 2) ++topo.nonmanifold_edges;
+      if (n == 2 && edges[i].forward() == edges[i + 1].forward()) ++topo.misoriented_edges;
+      for (std::size_t k = i + 1; k < j; ++k) components.unite(edges[i].tri, edges[k].tri);
+      i = j;
+    }
   }
   for (std::size_t f = 0; f < nf; ++f)
     if (components.find(f) == f) ++topo.components;

@@ -30,6 +30,9 @@ struct MeshTopology {
   bool oriented() const { return misoriented_edges == 0; }
 };
 
-MeshTopology analyze_topology(const TriangleMesh& mesh);
+// edge_table_bytes bounds the edge table (16 bytes per triangle side): larger meshes are checked in
+// several passes over vertex ranges, with the same result.
+MeshTopology analyze_topology(const TriangleMesh& mesh,
+                              std::size_t edge_table_bytes = std::size_t{256} << 20);
 
 }  // namespace poreshell

@@ -401,6 +401,10 @@ PipelineResult run_pipeline(const PipelineConfig& given) {
     run_options.min_spread = 1.0;
   run_options.on_step = config.on_step;
   result.run = run_to_steady_state(*solver, phi, energy ? &*energy : nullptr, run_options);
+  // The solver's hierarchy and the energy's factorisation are done with: free them before meshing,
+  // the stage with the largest footprint.
+  solver.reset();
+  energy.reset();
   result.seconds_solve = seconds_since(t);
   result.peak_rss_after_solve = peak_rss_bytes();
   if (!std::isfinite(result.run.final_ec))
