@@ -36,8 +36,8 @@
 namespace poreshell {
 namespace {
 
-constexpr double kSnap = 0.05;                // in units of the edge length
-constexpr std::size_t kCellsPerChunk = 2048;  // fixed, so chunking does not depend on threads
+constexpr double kSnap = 0.05;                  // in units of the edge length
+constexpr std::size_t kPointsPerChunk = 16384;  // at least; chunks depend on the field, not the threads
 
 // Cube corners are 3-bit masks (bit 0: +x, bit 1: +y, bit 2: +z).
 using Tet = std::array<int, 4>;
@@ -234,31 +234,47 @@ TriangleMesh extract_isosurface(const SparseField& field, double iso) {
 
   const FieldLookup lookup = sorted_field(field, grid);
 
-  // Only cubes with an inside corner can hold surface: the 8 cubes around each inside point.
-  std::vector<std::int64_t> cells;
-  for (std::size_t n = 0; n < lookup.keys.size(); ++n)
-    if (lookup.values[n] < iso)
-      for (int c = 0; c < 8; ++c) cells.push_back(lookup.keys[n] - grid.offset(c));
-  tbb::parallel_sort(cells.begin(), cells.end());
-  cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
-
-  const std::size_t chunks = (cells.size() + kCellsPerChunk - 1) / kCellsPerChunk;
+  // Only cubes with an inside corner can hold surface: the 8 cubes around each inside point. Cubes are
+  // named by their lowest corner's key and made in chunks of consecutive key ranges, each from the
+  // points that can be a corner of its cubes (up to one plane beyond), so no table of all cubes exists;
+  // a chunk spans at least a few planes of points, so few points are read twice.
+  const std::size_t n_points = lookup.keys.size();
+  const std::size_t per_chunk =
+      std::max(kPointsPerChunk, 4 * n_points / static_cast<std::size_t>(std::max<std::int64_t>(1, grid.nz)));
+  const std::size_t chunks = (n_points + per_chunk - 1) / per_chunk;
   std::vector<std::vector<EdgeTriangle>> parts(chunks);
   tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
-    const std::size_t end = std::min(cells.size(), (c + 1) * kCellsPerChunk);
-    for (std::size_t n = c * kCellsPerChunk; n < end; ++n)
-      polygonize_cell(cells[n], grid, lookup, iso, parts[c]);
+    constexpr std::int64_t kLowest = std::numeric_limits<std::int64_t>::min();
+    constexpr std::int64_t kHighest = std::numeric_limits<std::int64_t>::max();
+    const std::int64_t first = c == 0 ? kLowest : lookup.keys[c * per_chunk];
+    const std::int64_t last = c + 1 == chunks ? kHighest : lookup.keys[(c + 1) * per_chunk];
+    const auto begin = std::lower_bound(lookup.keys.begin(), lookup.keys.end(), first);
+    const auto end = last == kHighest ? lookup.keys.end()
+                                      : std::lower_bound(begin, lookup.keys.end(), last + grid.offset(7));
+    std::vector<std::int64_t> cells;
+    for (auto it = begin; it != end; ++it)
+      if (lookup.values[static_cast<std::size_t>(it - lookup.keys.begin())] < iso)
+        for (int corner = 0; corner < 8; ++corner) {
+          const std::int64_t cell = *it - grid.offset(corner);
+          if (cell >= first && cell < last) cells.push_back(cell);
+        }
+    std::sort(cells.begin(), cells.end());
+    cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+    for (std::int64_t cell : cells) polygonize_cell(cell, grid, lookup, iso, parts[c]);
   });
-  std::vector<EdgeTriangle> triangles;
-  for (auto& part : parts) triangles.insert(triangles.end(), part.begin(), part.end());
-  parts.clear();
+  // The chunks' triangles stay where they are (no concatenated copy): at 24 M triangles each copy of
+  // them is half a gigabyte.
+  std::vector<std::size_t> first_triangle(chunks + 1, 0);
+  for (std::size_t c = 0; c < chunks; ++c) first_triangle[c + 1] = first_triangle[c] + parts[c].size();
 
   // Weld: vertex index = rank of the edge name among all names used.
   std::vector<std::int64_t> names;
-  names.reserve(3 * triangles.size());
-  for (const auto& t : triangles) names.insert(names.end(), t.begin(), t.end());
+  names.reserve(3 * first_triangle[chunks]);
+  for (const auto& part : parts)
+    for (const auto& t : part) names.insert(names.end(), t.begin(), t.end());
   tbb::parallel_sort(names.begin(), names.end());
   names.erase(std::unique(names.begin(), names.end()), names.end());
+  names.shrink_to_fit();  // about a sixth of the names are distinct
   if (names.size() > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()))
     throw InputError("the isosurface has too many vertices; lower the resolution");
 
@@ -276,15 +292,15 @@ TriangleMesh extract_isosurface(const SparseField& field, double iso) {
                       }
                     });
 
-  mesh.triangles.resize(triangles.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, triangles.size()),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                      for (std::size_t f = r.begin(); f != r.end(); ++f)
-                        for (int c = 0; c < 3; ++c) {
-                          const auto it = std::lower_bound(names.begin(), names.end(), triangles[f][c]);
-                          mesh.triangles[f][c] = static_cast<std::int32_t>(it - names.begin());
-                        }
-                    });
+  mesh.triangles.resize(first_triangle[chunks]);
+  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+    for (std::size_t i = 0; i < parts[c].size(); ++i)
+      for (int corner = 0; corner < 3; ++corner) {
+        const auto it = std::lower_bound(names.begin(), names.end(), parts[c][i][corner]);
+        mesh.triangles[first_triangle[c] + i][corner] = static_cast<std::int32_t>(it - names.begin());
+      }
+    parts[c] = {};
+  });
   return mesh;
 }
 
