@@ -135,10 +135,12 @@ PointStencil interpolation_stencil(const NarrowBand& band, const Vec3& p) {
                    static_cast<int>(std::floor(q.z()))};
   const Vec3 t = q - Vec3(base.i, base.j, base.k);
   PointStencil s;
+  std::array<std::int64_t, 2> pair{};
   for (int c = 0; c < 8; ++c) {
     const int di = c & 1, dj = (c >> 1) & 1, dk = (c >> 2) & 1;
     const double w = (di ? t.x() : 1 - t.x()) * (dj ? t.y() : 1 - t.y()) * (dk ? t.z() : 1 - t.z());
-    const std::int64_t idx = band.find({base.i + di, base.j + dj, base.k + dk});
+    if (di == 0) pair = band.find_x_pair({base.i, base.j + dj, base.k + dk});
+    const std::int64_t idx = pair[static_cast<std::size_t>(di)];
     if (idx < 0) {
       s.complete = s.complete && w == 0.0;
       continue;
@@ -150,6 +152,21 @@ PointStencil interpolation_stencil(const NarrowBand& band, const Vec3& p) {
   if (s.present_weight > 0.0)
     for (double& w : s.weight) w /= s.present_weight;
   return s;
+}
+
+std::array<std::int64_t, 2> NarrowBand::find_x_pair(const Coord& c) const {
+  std::array<std::int64_t, 2> out{-1, -1};
+  const Coord next{c.i + 1, c.j, c.k};
+  if (!grid_.contains(c)) {
+    if (grid_.contains(next)) out[1] = find(next);
+    return out;
+  }
+  const std::int64_t key = grid_.key(c);
+  auto it = std::lower_bound(keys_.begin(), keys_.end(), key);
+  if (it != keys_.end() && *it == key) out[0] = it++ - keys_.begin();
+  // key + 1 is the +x neighbour only inside the grid (else it is the next row's first point).
+  if (grid_.contains(next) && it != keys_.end() && *it == key + 1) out[1] = it - keys_.begin();
+  return out;
 }
 
 std::int64_t NarrowBand::find(const Coord& c) const {

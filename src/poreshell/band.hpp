@@ -83,6 +83,8 @@ class NarrowBand {
 
   // Band index of a grid point, or -1 if it is not a band voxel (binary search; build-time use).
   std::int64_t find(const Coord& c) const;
+  // The same for c and its +x neighbour, with one search.
+  std::array<std::int64_t, 2> find_x_pair(const Coord& c) const;
 
   // Writes the ghost entries of an extended array from its band entries (closest-point extension).
   void fill_ghosts(std::span<double> extended) const;

@@ -15,10 +15,13 @@ constexpr int kLeafBlock = 8;        // side of the blocks whose points are test
 constexpr int kTopBlock = 64;        // side of the blocks the scan starts from (one task each)
 constexpr double kReachCells = 2.0;  // samples beyond the slab, so every crossing cell is complete
 
-// Grid points of the block [origin, origin + size)^3 within `reach` of the surface (by the unsigned
-// distance, which is 1-Lipschitz: whole blocks are skipped on one query), in key order per leaf.
+// Calls leaf(c) for the grid points c of the block [origin, origin + size)^3 that may lie within
+// `reach` of the surface (by the unsigned distance, which is 1-Lipschitz: whole blocks are skipped on
+// one query), in key order per leaf block; leaf makes the exact test and returns the unsigned distance
+// it found, which skips the next points of the row that are as surely out of reach.
+template <class Leaf>
 void scan_block(const Surface& surface, const Grid& grid, const Coord& origin, int size, double reach,
-                std::vector<Coord>& out) {
+                const Leaf& leaf) {
   const auto& d = grid.dims();
   if (origin.i >= d[0] || origin.j >= d[1] || origin.k >= d[2]) return;
   const double h = grid.h();
@@ -29,14 +32,22 @@ void scan_block(const Surface& surface, const Grid& grid, const Coord& origin, i
     for (int c = 0; c < 8; ++c)
       scan_block(surface, grid,
                  {origin.i + (c & 1) * half, origin.j + ((c >> 1) & 1) * half, origin.k + (c >> 2) * half},
-                 half, reach, out);
+                 half, reach, leaf);
     return;
   }
   for (int k = origin.k; k < std::min(origin.k + size, d[2]); ++k)
     for (int j = origin.j; j < std::min(origin.j + size, d[1]); ++j)
-      for (int i = origin.i; i < std::min(origin.i + size, d[0]); ++i)
-        if (std::abs(surface.distance(grid.position({i, j, k}))) <= reach) out.push_back({i, j, k});
+      for (int i = origin.i; i < std::min(origin.i + size, d[0]); ++i) {
+        const double distance = leaf(Coord{i, j, k});
+        if (distance > reach) i += static_cast<int>(std::floor((distance - reach) / h));
+      }
 }
+
+struct Sample {
+  Coord point;
+  double wall, pattern;
+  bool incomplete;
+};
 
 }  // namespace
 
@@ -93,36 +104,61 @@ ShellSamples sample_shell(const Surface& surface, const NarrowBand& band, std::s
   out.grid = Grid(box.min - margin, h, dims);
   out.pattern_length = options.pattern_length;
 
+  const bool signed_needed = options.offset != WallOffset::centered;
+  const bool exact = surface.closest_point_is_exact();
+  // One test per grid point that also samples it, so that the query deciding whether the point is near
+  // enough gives its closest point too. An exact closest point gives the unsigned distance (|x - cp|):
+  // one query per sample. Otherwise (or with no closest point) the distance and closest_point_at, as
+  // for any surface.
+  const auto sample = [&](const Coord& c, std::vector<Sample>& samples) -> double {
+    const Vec3 x = out.grid.position(c);
+    std::optional<Vec3> cp;
+    if (exact) cp = surface.closest_point(x);
+    double d = 0.0;
+    if (cp) {
+      d = (x - *cp).norm();
+      if (!(d <= reach)) return d;
+      // Only the surface's own distance has the sign when no side test is given.
+      if (signed_needed && !options.side) d = surface.distance(x);
+    } else {
+      d = surface.distance(x);
+      if (!(std::abs(d) <= reach)) return std::abs(d);
+      cp = closest_point_at(surface, x, h, ClosestPointRule::exact);
+    }
+    const Vec3 p = cp.value_or(x);
+    if (signed_needed && options.side) d = std::copysign(std::abs(d), options.side(x, p));
+    bool complete = true;
+    const double pattern = interpolate_band(band, phi, p, &complete);
+    samples.push_back({c, std::abs(d - center_offset) - 0.5 * t, pattern, !complete});
+    return 0.0;  // within reach
+  };
+
   const std::array<int, 3> tops{(dims[0] + kTopBlock - 1) / kTopBlock, (dims[1] + kTopBlock - 1) / kTopBlock,
                                 (dims[2] + kTopBlock - 1) / kTopBlock};
   const std::size_t top_count = std::size_t(tops[0]) * std::size_t(tops[1]) * std::size_t(tops[2]);
-  std::vector<std::vector<Coord>> per_block(top_count);
+  std::vector<std::vector<Sample>> per_block(top_count);
   tbb::parallel_for(std::size_t{0}, top_count, [&](std::size_t b) {
     const Coord origin{static_cast<int>(b % std::size_t(tops[0])) * kTopBlock,
                        static_cast<int>((b / std::size_t(tops[0])) % std::size_t(tops[1])) * kTopBlock,
                        static_cast<int>(b / (std::size_t(tops[0]) * std::size_t(tops[1]))) * kTopBlock};
-    scan_block(surface, out.grid, origin, kTopBlock, reach, per_block[b]);
+    std::vector<Sample>& samples = per_block[b];
+    scan_block(surface, out.grid, origin, kTopBlock, reach,
+               [&](const Coord& c) { return sample(c, samples); });
   });
+  std::size_t total = 0;
+  for (const auto& block : per_block) total += block.size();
+  out.points.reserve(total);
+  out.wall.reserve(total);
+  out.pattern.reserve(total);
   for (auto& block : per_block) {
-    out.points.insert(out.points.end(), block.begin(), block.end());
+    for (const Sample& s : block) {
+      out.points.push_back(s.point);
+      out.wall.push_back(s.wall);
+      out.pattern.push_back(s.pattern);
+      out.incomplete_stencils += s.incomplete;
+    }
     block = {};
   }
-
-  const bool signed_needed = options.offset != WallOffset::centered;
-  out.wall.resize(out.points.size());
-  out.pattern.resize(out.points.size());
-  std::vector<char> incomplete(out.points.size(), 0);
-  tbb::parallel_for(std::size_t{0}, out.points.size(), [&](std::size_t n) {
-    const Vec3 x = out.grid.position(out.points[n]);
-    const Vec3 cp = closest_point_at(surface, x, h, ClosestPointRule::exact).value_or(x);
-    double d = surface.distance(x);
-    if (signed_needed && options.side) d = std::copysign(std::abs(d), options.side(x, cp));
-    out.wall[n] = std::abs(d - center_offset) - 0.5 * t;
-    bool complete = true;
-    out.pattern[n] = interpolate_band(band, phi, cp, &complete);
-    incomplete[n] = !complete;
-  });
-  for (char c : incomplete) out.incomplete_stencils += c;
   return out;
 }
 

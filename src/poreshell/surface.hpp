@@ -22,6 +22,11 @@ class Surface {
   // (a sampled level set) return nothing, and the band uses the paper's gradient formula.
   virtual std::optional<Vec3> closest_point(const Vec3& p) const = 0;
 
+  // Whether a closest point given is the exact one, so that |distance(p)| == |p - closest_point(p)|
+  // up to rounding: one query then gives both. Not for a sampled level set, whose distance is its
+  // samples', not that of its closest points.
+  virtual bool closest_point_is_exact() const { return false; }
+
   // A box that holds the whole surface.
   virtual Box bounds() const = 0;
 
@@ -34,6 +39,7 @@ class Sphere final : public Surface {
   Sphere(const Vec3& center, double radius);
   double distance(const Vec3& p) const override;
   std::optional<Vec3> closest_point(const Vec3& p) const override;
+  bool closest_point_is_exact() const override { return true; }
   Box bounds() const override;
   std::string name() const override { return "sphere"; }
 
@@ -48,6 +54,7 @@ class Torus final : public Surface {
   Torus(const Vec3& center, double major_radius, double minor_radius);
   double distance(const Vec3& p) const override;
   std::optional<Vec3> closest_point(const Vec3& p) const override;
+  bool closest_point_is_exact() const override { return true; }
   Box bounds() const override;
   std::string name() const override { return "torus"; }
 
