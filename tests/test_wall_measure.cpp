@@ -1,5 +1,5 @@
-// The wall measurement on a written mesh: a caliper across a hollow sphere reads its wall, and the
-// triangles it leaves out of its search tree (beyond the probes' reach) cannot change a reading.
+// The wall measurement on a written mesh: a caliper across a hollow sphere reads its wall, geometry
+// beyond the probes' reach changes no reading, and geometry within it does.
 
 #include <gtest/gtest.h>
 

@@ -1,84 +1,138 @@
 #include "poreshell/wall_measure.hpp"
 
+// Each probe casts a ray both ways along its normal; its first hit on the mesh on each side gives the
+// wall. Rays are hashed into cells along their segments, so each triangle is tested only against the
+// rays that pass its cells: time is one pass over the triangles and memory a few kilobytes, however
+// large the mesh (a search tree over a 24-million-triangle mesh would take 2 GB).
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
+
+#include <Eigen/Geometry>  // cross()
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <optional>
 #include <vector>
-
-#include "poreshell/mesh_surface.hpp"
 
 namespace poreshell {
 namespace {
 
-// Distance along the ray to the surface: steps of the distance to the nearest triangle never cross
-// it; stops within `tolerance` of it or gives up beyond `max_length`.
-std::optional<double> trace(const MeshSurface& surface, const Vec3& start, const Vec3& direction,
-                            double max_length, double tolerance) {
-  double s = 0.0;
-  for (int i = 0; i < 200 && s <= max_length; ++i) {
-    const double d = surface.distance(start + s * direction);
-    if (d < tolerance) return s;
-    s += d;
-  }
-  return std::nullopt;
+constexpr double kNoHit = std::numeric_limits<double>::infinity();
+constexpr std::int64_t kMaxCellsPerTriangle = 64;  // larger triangles are tested against every ray
+
+struct Ray {
+  Vec3 origin, direction;
+};
+
+// Distance along the ray to triangle (a, b, c) if it crosses it within [0, max_length] (Moller-Trumbore,
+// both facings), else infinity.
+double hit_distance(const Ray& ray, const Vec3& a, const Vec3& b, const Vec3& c, double max_length) {
+  const Vec3 e1 = b - a, e2 = c - a;
+  const Vec3 p = ray.direction.cross(e2);
+  const double det = e1.dot(p);
+  if (std::abs(det) < 1e-300) return kNoHit;  // parallel to the plane
+  const double inv = 1.0 / det;
+  const Vec3 s = ray.origin - a;
+  const double u = s.dot(p) * inv;
+  if (u < 0.0 || u > 1.0) return kNoHit;
+  const Vec3 q = s.cross(e1);
+  const double v = ray.direction.dot(q) * inv;
+  if (v < 0.0 || u + v > 1.0) return kNoHit;
+  const double t = e2.dot(q) * inv;
+  return t >= 0.0 && t <= max_length ? t : kNoHit;
 }
 
-// The triangles that can matter to the probes: those whose box meets a cell (of side 2 reach) that a
-// probe's segment, grown by reach, meets. A triangle left out is farther than reach from every point
-// a trace visits, so each step, hit and miss is the same as with the whole mesh; the tree is built over
-// the probes' neighbourhoods instead of millions of triangles (about 100 bytes each).
-TriangleMesh triangles_near(const TriangleMesh& solid, std::span<const WallProbe> probes, double reach) {
-  const double cell = 2.0 * reach;
-  const auto cell_of = [&](double x) { return static_cast<std::int64_t>(std::floor(x / cell)); };
-  const auto key = [](std::int64_t i, std::int64_t j, std::int64_t k) {
-    return ((i & 0x1FFFFF) << 42) | ((j & 0x1FFFFF) << 21) | (k & 0x1FFFFF);  // wraps: only more cells
+class RayCells {
+ public:
+  RayCells(const std::vector<Ray>& rays, double max_length) : cell_(max_length / 8.0) {
+    // Points along each segment at half a cell apart, with their neighbour cells: every cell the
+    // segment passes is marked (a superset is harmless).
+    const int steps = 17;
+    for (std::size_t r = 0; r < rays.size(); ++r)
+      for (int s = 0; s < steps; ++s) {
+        const Vec3 p = rays[r].origin + (max_length * s / (steps - 1)) * rays[r].direction;
+        const std::int64_t i = cell_of(p.x()), j = cell_of(p.y()), k = cell_of(p.z());
+        for (int d = 0; d < 27; ++d)
+          entries_.push_back(
+              {key(i + d % 3 - 1, j + (d / 3) % 3 - 1, k + d / 9 - 1), static_cast<std::uint32_t>(r)});
+      }
+    std::sort(entries_.begin(), entries_.end());
+    entries_.erase(std::unique(entries_.begin(), entries_.end()), entries_.end());
+  }
+
+  std::int64_t cell_of(double x) const { return static_cast<std::int64_t>(std::floor(x / cell_)); }
+  static std::int64_t key(std::int64_t i, std::int64_t j, std::int64_t k) {
+    return ((i & 0x1FFFFF) << 42) | ((j & 0x1FFFFF) << 21) | (k & 0x1FFFFF);  // wraps: only more rays
+  }
+  // Rays registered in cell (i, j, k), as a range of entries.
+  template <class F>
+  void for_rays_in(std::int64_t i, std::int64_t j, std::int64_t k, const F& f) const {
+    const std::int64_t kk = key(i, j, k);
+    auto it = std::lower_bound(entries_.begin(), entries_.end(), Entry{kk, 0});
+    for (; it != entries_.end() && it->cell == kk; ++it) f(it->ray);
+  }
+
+ private:
+  struct Entry {
+    std::int64_t cell;
+    std::uint32_t ray;
+    bool operator<(const Entry& o) const { return cell != o.cell ? cell < o.cell : ray < o.ray; }
+    bool operator==(const Entry& o) const { return cell == o.cell && ray == o.ray; }
   };
-  std::vector<std::int64_t> marked;
-  for (const WallProbe& p : probes) {
-    const Vec3 a = p.start - reach * p.normal, b = p.start + reach * p.normal;
-    const Vec3 lo = a.cwiseMin(b) - Vec3::Constant(reach), hi = a.cwiseMax(b) + Vec3::Constant(reach);
-    for (std::int64_t i = cell_of(lo.x()); i <= cell_of(hi.x()); ++i)
-      for (std::int64_t j = cell_of(lo.y()); j <= cell_of(hi.y()); ++j)
-        for (std::int64_t k = cell_of(lo.z()); k <= cell_of(hi.z()); ++k) marked.push_back(key(i, j, k));
-  }
-  std::sort(marked.begin(), marked.end());
-  marked.erase(std::unique(marked.begin(), marked.end()), marked.end());
-  TriangleMesh near;
-  for (const auto& t : solid.triangles) {
-    const Vec3 &a = solid.vertices[static_cast<std::size_t>(t[0])],
-               &b = solid.vertices[static_cast<std::size_t>(t[1])],
-               &c = solid.vertices[static_cast<std::size_t>(t[2])];
-    const Vec3 lo = a.cwiseMin(b).cwiseMin(c), hi = a.cwiseMax(b).cwiseMax(c);
-    bool hit = false;
-    for (std::int64_t i = cell_of(lo.x()); i <= cell_of(hi.x()) && !hit; ++i)
-      for (std::int64_t j = cell_of(lo.y()); j <= cell_of(hi.y()) && !hit; ++j)
-        for (std::int64_t k = cell_of(lo.z()); k <= cell_of(hi.z()) && !hit; ++k)
-          hit = std::binary_search(marked.begin(), marked.end(), key(i, j, k));
-    if (!hit) continue;
-    const auto first = static_cast<std::int32_t>(near.vertices.size());
-    near.vertices.insert(near.vertices.end(), {a, b, c});
-    near.triangles.push_back({first, first + 1, first + 2});
-  }
-  return near;
-}
+  double cell_;
+  std::vector<Entry> entries_;
+};
 
 }  // namespace
 
 WallMeasurement measure_wall(const TriangleMesh& solid, std::span<const WallProbe> probes,
                              double max_length) {
   WallMeasurement m;
-  if (probes.empty() || solid.triangles.empty()) return m;
-  const TriangleMesh near = triangles_near(solid, probes, max_length);
-  if (near.triangles.empty()) return m;  // nothing within reach: no probe can meet the surface
-  const MeshSurface surface(near);
-  const double tolerance = 1e-6 * max_length;
-  std::vector<double> thickness;
+  if (probes.empty() || solid.triangles.empty() || !(max_length > 0.0)) return m;
+  std::vector<Ray> rays;
   for (const WallProbe& p : probes) {
-    const auto up = trace(surface, p.start, p.normal, max_length, tolerance);
-    const auto down = trace(surface, p.start, -p.normal, max_length, tolerance);
-    if (up && down) thickness.push_back(*up + *down);
+    rays.push_back({p.start, p.normal});
+    rays.push_back({p.start, -p.normal});
+  }
+  const RayCells cells(rays, max_length);
+
+  // Nearest hit per ray: a minimum, so the result does not depend on how the triangles are split.
+  using Hits = std::vector<double>;
+  const Hits nearest = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, solid.triangles.size(), 4096), Hits(rays.size(), kNoHit),
+      [&](const tbb::blocked_range<std::size_t>& range, Hits hits) {
+        for (std::size_t f = range.begin(); f != range.end(); ++f) {
+          const auto& t = solid.triangles[f];
+          const Vec3& a = solid.vertices[static_cast<std::size_t>(t[0])];
+          const Vec3& b = solid.vertices[static_cast<std::size_t>(t[1])];
+          const Vec3& c = solid.vertices[static_cast<std::size_t>(t[2])];
+          const auto test = [&](std::uint32_t r) {
+            hits[r] = std::min(hits[r], hit_distance(rays[r], a, b, c, max_length));
+          };
+          const Vec3 lo = a.cwiseMin(b).cwiseMin(c), hi = a.cwiseMax(b).cwiseMax(c);
+          const std::int64_t i0 = cells.cell_of(lo.x()), i1 = cells.cell_of(hi.x());
+          const std::int64_t j0 = cells.cell_of(lo.y()), j1 = cells.cell_of(hi.y());
+          const std::int64_t k0 = cells.cell_of(lo.z()), k1 = cells.cell_of(hi.z());
+          if ((i1 - i0 + 1) * (j1 - j0 + 1) * (k1 - k0 + 1) > kMaxCellsPerTriangle) {
+            for (std::uint32_t r = 0; r < rays.size(); ++r) test(r);
+            continue;
+          }
+          for (std::int64_t i = i0; i <= i1; ++i)
+            for (std::int64_t j = j0; j <= j1; ++j)
+              for (std::int64_t k = k0; k <= k1; ++k) cells.for_rays_in(i, j, k, test);
+        }
+        return hits;
+      },
+      [](Hits x, const Hits& y) {
+        for (std::size_t r = 0; r < x.size(); ++r) x[r] = std::min(x[r], y[r]);
+        return x;
+      });
+
+  std::vector<double> thickness;
+  for (std::size_t p = 0; p < probes.size(); ++p) {
+    const double up = nearest[2 * p], down = nearest[2 * p + 1];
+    if (up < kNoHit && down < kNoHit) thickness.push_back(up + down);
   }
   if (thickness.empty()) return m;
   std::sort(thickness.begin(), thickness.end());

@@ -1,7 +1,7 @@
 #pragma once
 // The wall thickness of a solid as written, measured on its mesh: from a point inside the wall, the
-// distance to the mesh along +n and along -n (sphere tracing on the mesh's exact unsigned distance),
-// summed. What a caliper across the wall would read.
+// distance to the mesh along +n and along -n (the first crossing of a ray each way), summed. What a
+// caliper across the wall would read.
 
 #include <span>
 
