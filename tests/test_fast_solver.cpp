@@ -75,11 +75,12 @@ TEST(BandInterpolation, ExactForLinearFunctionsInBothForms) {
   ASSERT_GT(partial, 10u);
   const BandInterpolation transfer(c.band, points);
   for (std::size_t i = 0; i < on_surface; ++i)
-    EXPECT_NEAR(transfer.at(i, values), linear(points[i]), 1e-6) << "compact form, point " << i;
+    EXPECT_NEAR(transfer.at<double>(i, values), linear(points[i]), 1e-6) << "compact form, point " << i;
   // The partial form renormalises the present corners' weights: exact where a linear function's values
   // are, i.e. it interpolates the same function as PointStencil.
   for (std::size_t i = on_surface; i < points.size(); ++i)
-    EXPECT_NEAR(transfer.at(i, values), interpolation_stencil(c.band, points[i]).interpolate(values), 1e-6)
+    EXPECT_NEAR(transfer.at<double>(i, values), interpolation_stencil(c.band, points[i]).interpolate(values),
+                1e-6)
         << "partial form, point " << i;
 }
 

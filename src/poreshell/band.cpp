@@ -181,8 +181,9 @@ namespace {
 // Small bands (coarse multigrid levels) run as one task rather than paying the scheduler per ghost.
 constexpr std::size_t kGhostGrain = 1024;
 
+template <class T>
 void fill_ghost_range(const std::vector<GhostStencil>& stencils, std::size_t n, std::size_t begin,
-                      std::size_t end, std::span<double> extended) {
+                      std::size_t end, std::span<T> extended) {
   tbb::parallel_for(tbb::blocked_range<std::size_t>(begin, end, kGhostGrain),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       for (std::size_t g = r.begin(); g != r.end(); ++g)
@@ -196,7 +197,16 @@ void NarrowBand::fill_ghosts(std::span<double> extended) const {
   fill_ghost_range(stencils_, voxels_.size(), 0, stencils_.size(), extended);
 }
 
+void NarrowBand::fill_ghosts(std::span<float> extended) const {
+  fill_ghost_range(stencils_, voxels_.size(), 0, stencils_.size(), extended);
+}
+
 void NarrowBand::fill_ghosts(std::span<double> extended, int parity) const {
+  const auto [begin, end] = ghosts_of_parity(parity);
+  fill_ghost_range(stencils_, voxels_.size(), begin, end, extended);
+}
+
+void NarrowBand::fill_ghosts(std::span<float> extended, int parity) const {
   const auto [begin, end] = ghosts_of_parity(parity);
   fill_ghost_range(stencils_, voxels_.size(), begin, end, extended);
 }

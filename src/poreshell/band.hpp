@@ -41,14 +41,15 @@ struct GhostStencil {
   double weight(int c) const {
     return ((c & 1) ? t[0] : 1 - t[0]) * ((c & 2) ? t[1] : 1 - t[1]) * ((c & 4) ? t[2] : 1 - t[2]);
   }
-  double interpolate(const double* values) const {
+  template <class T>
+  T interpolate(const T* values) const {
     const auto along_x = [&](int r) {
-      const double* v = values + row[r];
-      return v[0] + t[0] * (v[1] - v[0]);
+      const T* v = values + row[static_cast<std::size_t>(r)];
+      return v[0] + static_cast<T>(t[0]) * (v[1] - v[0]);
     };
-    const double low = along_x(0) + t[1] * (along_x(1) - along_x(0));
-    const double high = along_x(2) + t[1] * (along_x(3) - along_x(2));
-    return low + t[2] * (high - low);
+    const T low = along_x(0) + static_cast<T>(t[1]) * (along_x(1) - along_x(0));
+    const T high = along_x(2) + static_cast<T>(t[1]) * (along_x(3) - along_x(2));
+    return low + static_cast<T>(t[2]) * (high - low);
   }
 };
 
@@ -88,8 +89,10 @@ class NarrowBand {
 
   // Writes the ghost entries of an extended array from its band entries (closest-point extension).
   void fill_ghosts(std::span<double> extended) const;
-  // The same for the ghosts whose i + j + k has this parity (0 or 1) only.
+  // The same for the ghosts whose i + j + k has this parity (0 or 1) only; float for the multigrid.
   void fill_ghosts(std::span<double> extended, int parity) const;
+  void fill_ghosts(std::span<float> extended, int parity) const;
+  void fill_ghosts(std::span<float> extended) const;
   // Ghost indices [begin, end) of that parity (0-based among the ghosts).
   std::pair<std::size_t, std::size_t> ghosts_of_parity(int parity) const {
     return parity == 0 ? std::pair<std::size_t, std::size_t>{0, odd_ghosts_begin_}

@@ -86,13 +86,6 @@ BandInterpolation::BandInterpolation(const NarrowBand& from, std::span<const Vec
   }
 }
 
-double BandInterpolation::partial_at(const Partial& s, std::span<const double> values) {
-  double v = 0.0;
-  for (int c = 0; c < 8; ++c)
-    v += static_cast<double>(s.weight[c]) * values[static_cast<std::size_t>(s.corner[c])];
-  return v;
-}
-
 std::size_t BandInterpolation::memory_bytes() const {
   return compact_.capacity() * sizeof(Compact) + partial_.capacity() * sizeof(Partial);
 }
@@ -132,7 +125,7 @@ BandMultigrid::BandMultigrid(const NarrowBand& fine, const Surface& surface, dou
         for (int c = 0; c < 8; ++c)
           if (static_cast<std::size_t>(s.corner(c)) == v) self += s.weight(c);
       }
-      level.inverse_diagonal_base[v] = 6.0 - self;
+      level.inverse_diagonal_base[v] = static_cast<float>(6.0 - self);
     });
     for (std::size_t v = 0; v < n; ++v) {
       const Coord c = band.voxels()[v];
@@ -149,13 +142,12 @@ std::size_t BandMultigrid::memory_bytes() const {
   std::size_t bytes = 0;
   for (const Level& l : levels_) {
     if (l.owned) bytes += l.owned->memory_bytes();
-    bytes += (l.inverse_diagonal_base.capacity() + l.x.capacity() +
-              (l.colours[0].capacity() + l.colours[1].capacity()) / 2 + l.b.capacity() + l.r.capacity() +
-              l.averaged.capacity()) *
-                 sizeof(double) +
+    bytes += (l.inverse_diagonal_base.capacity() + l.x.capacity() + l.colours[0].capacity() +
+              l.colours[1].capacity() + l.b.capacity() + l.r.capacity() + l.averaged.capacity()) *
+                 sizeof(float) +
              l.from_finer.memory_bytes() + l.to_coarser.memory_bytes();
   }
-  return bytes;
+  return bytes + solution_.capacity() * sizeof(double);
 }
 
 std::size_t BandMultigrid::last_level_for(double z) const {
@@ -175,8 +167,9 @@ double BandMultigrid::residual(Level& level, double z) {
   return parallel_max(band.size(), [&](std::size_t v) {
     double sum = 0.0;
     for (int k = 0; k < NarrowBand::kNeighbors; ++k) sum += level.x[band.neighbor(v, k)];
-    level.r[v] = level.b[v] - (z * level.x[v] - (sum - 6.0 * level.x[v]) * inv_h2);
-    return std::abs(level.r[v]);
+    const double r = level.b[v] - (z * level.x[v] - (sum - 6.0 * level.x[v]) * inv_h2);
+    level.r[v] = static_cast<float>(r);
+    return std::abs(r);
   });
 }
 
@@ -193,7 +186,7 @@ void BandMultigrid::smooth(Level& level, double z, int sweeps) {
         double sum = 0.0;
         for (int k = 0; k < NarrowBand::kNeighbors; ++k) sum += level.x[band.neighbor(v, k)];
         const double r = level.b[v] - (z * level.x[v] - (sum - 6.0 * level.x[v]) * inv_h2);
-        level.x[v] += r / (z + level.inverse_diagonal_base[v] * inv_h2);
+        level.x[v] += static_cast<float>(r / (z + level.inverse_diagonal_base[v] * inv_h2));
       });
     }
 }
@@ -221,14 +214,15 @@ void BandMultigrid::v_cycle(std::size_t l, std::size_t last, double z) {
   for_each_index(band.size(), [&](std::size_t v) {
     double sum = 0.0;
     for (int k = 0; k < NarrowBand::kNeighbors; ++k) sum += fine.r[band.neighbor(v, k)];
-    fine.averaged[v] = 0.5 * fine.r[v] + sum / 12.0;
+    fine.averaged[v] = static_cast<float>(0.5 * fine.r[v] + sum / 12.0);
   });
   Level& coarse = levels_[l + 1];
   for_each_index(coarse.band->size(),
-                 [&](std::size_t v) { coarse.b[v] = coarse.from_finer.at(v, fine.averaged); });
-  std::fill(coarse.x.begin(), coarse.x.end(), 0.0);
+                 [&](std::size_t v) { coarse.b[v] = coarse.from_finer.at<float>(v, fine.averaged); });
+  std::fill(coarse.x.begin(), coarse.x.end(), 0.0f);
   v_cycle(l + 1, last, z);
-  for_each_index(fine.band->size(), [&](std::size_t v) { fine.x[v] += fine.to_coarser.at(v, coarse.x); });
+  for_each_index(fine.band->size(),
+                 [&](std::size_t v) { fine.x[v] += fine.to_coarser.at<float>(v, coarse.x); });
   smooth(fine, z, kSmoothingSweeps);
 }
 
@@ -237,18 +231,30 @@ MultigridSolveReport BandMultigrid::solve(double z, std::span<const double> b, s
   Level& top = levels_.front();
   const std::size_t n = top.band->size();
   if (b.size() != n || x.size() != n) throw std::invalid_argument("multigrid: one value per band voxel");
-  std::copy(b.begin(), b.end(), top.b.begin());
-  std::copy(x.begin(), x.end(), top.x.begin());
+  // Defect correction: the residual of the double iterate, a float V-cycle for its correction.
+  const NarrowBand& band = *top.band;
+  solution_.resize(band.extended_size());
+  std::copy(x.begin(), x.end(), solution_.begin());
+  const double inv_h2 = 1.0 / (band.grid().h() * band.grid().h());
   const std::size_t last = last_level_for(z);
   MultigridSolveReport report;
   for (;;) {
-    report.residual = residual(top, z);
+    band.fill_ghosts(solution_);
+    report.residual = parallel_max(n, [&](std::size_t v) {
+      double sum = 0.0;
+      for (int k = 0; k < NarrowBand::kNeighbors; ++k) sum += solution_[band.neighbor(v, k)];
+      const double r = b[v] - (z * solution_[v] - (sum - 6.0 * solution_[v]) * inv_h2);
+      top.b[v] = static_cast<float>(r);
+      return std::abs(r);
+    });
     report.converged = report.residual <= residual_tolerance;
     if (report.converged || report.cycles >= max_cycles || !std::isfinite(report.residual)) break;
+    std::fill(top.x.begin(), top.x.end(), 0.0f);
     v_cycle(0, last, z);
+    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t v) { solution_[v] += top.x[v]; });
     ++report.cycles;
   }
-  std::copy(top.x.begin(), top.x.begin() + static_cast<std::ptrdiff_t>(n), x.begin());
+  std::copy(solution_.begin(), solution_.begin() + static_cast<std::ptrdiff_t>(n), x.begin());
   return report;
 }
 

@@ -29,15 +29,16 @@ class BandInterpolation {
   BandInterpolation() = default;
   BandInterpolation(const NarrowBand& from, std::span<const Vec3> points);
 
-  double at(std::size_t i, std::span<const double> values) const {
+  template <class T>
+  T at(std::size_t i, std::span<const T> values) const {
     const Compact& s = compact_[i];
     if (s.row[0] < 0) return partial_at(partial_[static_cast<std::size_t>(-s.row[0] - 1)], values);
     const auto along_x = [&](int r) {
-      const double* v = values.data() + s.row[static_cast<std::size_t>(r)];
+      const T* v = values.data() + s.row[static_cast<std::size_t>(r)];
       return v[0] + s.t[0] * (v[1] - v[0]);
     };
-    const double low = along_x(0) + s.t[1] * (along_x(1) - along_x(0));
-    const double high = along_x(2) + s.t[1] * (along_x(3) - along_x(2));
+    const T low = along_x(0) + s.t[1] * (along_x(1) - along_x(0));
+    const T high = along_x(2) + s.t[1] * (along_x(3) - along_x(2));
     return low + s.t[2] * (high - low);
   }
   std::size_t memory_bytes() const;
@@ -51,7 +52,12 @@ class BandInterpolation {
     std::array<std::int32_t, 8> corner{};
     std::array<float, 8> weight{};
   };
-  static double partial_at(const Partial& s, std::span<const double> values);
+  template <class T>
+  static T partial_at(const Partial& s, std::span<const T> values) {
+    T v = 0;
+    for (std::size_t c = 0; c < 8; ++c) v += s.weight[c] * values[static_cast<std::size_t>(s.corner[c])];
+    return v;
+  }
 
   std::vector<Compact> compact_;
   std::vector<Partial> partial_;
@@ -83,13 +89,15 @@ class BandMultigrid {
   struct Level {
     std::unique_ptr<NarrowBand> owned;  // coarse levels own their band; level 0 borrows the fine one
     const NarrowBand* band = nullptr;
-    std::vector<double> inverse_diagonal_base;  // 6 - self weight: h^2 (diagonal - z)
+    std::vector<float> inverse_diagonal_base;  // 6 - self weight: h^2 (diagonal - z)
     std::vector<std::uint32_t>
         colours[2];                // red-black sets, (i + j + k) even / odd: colour c reads ghosts of 1 - c
     BandInterpolation from_finer;  // restriction: into the finer band at this voxel's cp
     BandInterpolation to_coarser;  // prolongation: into the coarser band at this voxel's cp
-    std::vector<double> x, r;      // extended (band + ghosts)
-    std::vector<double> b, averaged;  // band
+    // Float: the cycles solve for corrections (solve() keeps the solution and its residual in double),
+    // and their passes are memory-bound, so half the bytes is nearly half the time.
+    std::vector<float> x, r;         // extended (band + ghosts)
+    std::vector<float> b, averaged;  // band
   };
 
   void smooth(Level& level, double z, int sweeps);  // red-black Gauss-Seidel
@@ -98,6 +106,7 @@ class BandMultigrid {
   std::size_t last_level_for(double z) const;
 
   std::vector<Level> levels_;
+  std::vector<double> solution_;  // solve()'s iterate, band + ghosts, in double
 };
 
 }  // namespace poreshell
