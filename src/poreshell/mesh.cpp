@@ -1,8 +1,8 @@
 #include "poreshell/mesh.hpp"
 
-// Topology checks by sorting instead of hashing: an edge table of 3F (edge, triangle) records
-// sorted once, and a vertex -> triangle table built by counting sort. Both scale to millions of
-// triangles without per-edge allocations.
+// Topology checks by sorting instead of hashing: a table of (edge, triangle) records sorted in passes
+// over vertex ranges, and a vertex -> triangle table built by counting sort. Both scale to tens of
+// millions of triangles without per-edge allocations.
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
