@@ -242,12 +242,15 @@ TriangleMesh extract_isosurface(const SparseField& field, double iso) {
   const std::size_t per_chunk =
       std::max(kPointsPerChunk, 4 * n_points / static_cast<std::size_t>(std::max<std::int64_t>(1, grid.nz)));
   const std::size_t chunks = (n_points + per_chunk - 1) / per_chunk;
+  constexpr std::int64_t kLowest = std::numeric_limits<std::int64_t>::min();
+  constexpr std::int64_t kHighest = std::numeric_limits<std::int64_t>::max();
+  std::vector<std::int64_t> chunk_first(chunks);  // chunk c holds the cubes with keys in [first c, first c+1)
+  for (std::size_t c = 0; c < chunks; ++c) chunk_first[c] = c == 0 ? kLowest : lookup.keys[c * per_chunk];
   std::vector<std::vector<EdgeTriangle>> parts(chunks);
+  std::vector<std::vector<std::int64_t>> used(chunks);  // each chunk's edge names, sorted, distinct
   tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
-    constexpr std::int64_t kLowest = std::numeric_limits<std::int64_t>::min();
-    constexpr std::int64_t kHighest = std::numeric_limits<std::int64_t>::max();
-    const std::int64_t first = c == 0 ? kLowest : lookup.keys[c * per_chunk];
-    const std::int64_t last = c + 1 == chunks ? kHighest : lookup.keys[(c + 1) * per_chunk];
+    const std::int64_t first = chunk_first[c];
+    const std::int64_t last = c + 1 == chunks ? kHighest : chunk_first[c + 1];
     const auto begin = std::lower_bound(lookup.keys.begin(), lookup.keys.end(), first);
     const auto end = last == kHighest ? lookup.keys.end()
                                       : std::lower_bound(begin, lookup.keys.end(), last + grid.offset(7));
@@ -261,43 +264,71 @@ TriangleMesh extract_isosurface(const SparseField& field, double iso) {
     std::sort(cells.begin(), cells.end());
     cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
     for (std::int64_t cell : cells) polygonize_cell(cell, grid, lookup, iso, parts[c]);
+    std::vector<std::int64_t>& names = used[c];
+    names.reserve(3 * parts[c].size());
+    for (const auto& t : parts[c]) names.insert(names.end(), t.begin(), t.end());
+    std::sort(names.begin(), names.end());
+    names.erase(std::unique(names.begin(), names.end()), names.end());
+    names.shrink_to_fit();
   });
   // The chunks' triangles stay where they are (no concatenated copy): at 24 M triangles each copy of
   // them is half a gigabyte.
   std::vector<std::size_t> first_triangle(chunks + 1, 0);
   for (std::size_t c = 0; c < chunks; ++c) first_triangle[c + 1] = first_triangle[c] + parts[c].size();
 
-  // Weld: vertex index = rank of the edge name among all names used.
-  std::vector<std::int64_t> names;
-  names.reserve(3 * first_triangle[chunks]);
-  for (const auto& part : parts)
-    for (const auto& t : part) names.insert(names.end(), t.begin(), t.end());
-  tbb::parallel_sort(names.begin(), names.end());
-  names.erase(std::unique(names.begin(), names.end()), names.end());
-  names.shrink_to_fit();  // about a sixth of the names are distinct
-  if (names.size() > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()))
+  // Weld: vertex index = rank of the edge name among all names used, found chunk by chunk. A name's
+  // lower end lies in the cube that made it or beyond, so each name has an owner: the chunk whose key
+  // range holds its lower end, at or after every chunk that uses it. Each chunk's owned names, in
+  // order, make one run of the global order, so the mesh is the same as from one global sort, without
+  // a table of all 3T names (the largest array of the extraction).
+  const auto owner = [&](std::int64_t name) {
+    const auto it = std::upper_bound(chunk_first.begin(), chunk_first.end(), name / 8);
+    return static_cast<std::size_t>(it - chunk_first.begin()) - 1;
+  };
+  std::vector<std::int64_t> handed_on;  // names a chunk uses but a later chunk owns (at its start)
+  for (std::size_t c = 0; c < chunks; ++c) {
+    const std::int64_t last = c + 1 == chunks ? kHighest : chunk_first[c + 1];
+    auto& names = used[c];
+    const auto own_end = std::lower_bound(names.begin(), names.end(), last,
+                                          [](std::int64_t name, std::int64_t key) { return name / 8 < key; });
+    handed_on.insert(handed_on.end(), own_end, names.end());
+    names.erase(own_end, names.end());
+  }
+  std::sort(handed_on.begin(), handed_on.end());
+  for (std::int64_t name : handed_on) used[owner(name)].push_back(name);
+  handed_on = {};
+  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+    auto& names = used[c];
+    std::sort(names.begin(), names.end());
+    names.erase(std::unique(names.begin(), names.end()), names.end());
+  });
+  std::vector<std::size_t> first_vertex(chunks + 1, 0);
+  for (std::size_t c = 0; c < chunks; ++c) first_vertex[c + 1] = first_vertex[c] + used[c].size();
+  if (first_vertex[chunks] > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()))
     throw InputError("the isosurface has too many vertices; lower the resolution");
 
   TriangleMesh mesh;
-  mesh.vertices.resize(names.size());
+  mesh.vertices.resize(first_vertex[chunks]);
   const Grid& g = *field.grid;
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, names.size()),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                      for (std::size_t n = r.begin(); n != r.end(); ++n) {
-                        const std::int64_t lower = names[n] / 8;
-                        const int bits = static_cast<int>(names[n] % 8);
-                        const std::int64_t upper = lower + grid.offset(bits);
-                        const double t = crossing(lookup.at(lower), lookup.at(upper), iso);
-                        mesh.vertices[n] = g.origin() + g.h() * (grid.index(lower) + t * direction(bits));
-                      }
-                    });
+  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+    for (std::size_t i = 0; i < used[c].size(); ++i) {
+      const std::int64_t lower = used[c][i] / 8;
+      const int bits = static_cast<int>(used[c][i] % 8);
+      const std::int64_t upper = lower + grid.offset(bits);
+      const double t = crossing(lookup.at(lower), lookup.at(upper), iso);
+      mesh.vertices[first_vertex[c] + i] = g.origin() + g.h() * (grid.index(lower) + t * direction(bits));
+    }
+  });
 
   mesh.triangles.resize(first_triangle[chunks]);
   tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
     for (std::size_t i = 0; i < parts[c].size(); ++i)
       for (int corner = 0; corner < 3; ++corner) {
-        const auto it = std::lower_bound(names.begin(), names.end(), parts[c][i][corner]);
-        mesh.triangles[first_triangle[c] + i][corner] = static_cast<std::int32_t>(it - names.begin());
+        const std::int64_t name = parts[c][i][corner];
+        const std::size_t o = owner(name);
+        const auto it = std::lower_bound(used[o].begin(), used[o].end(), name);
+        mesh.triangles[first_triangle[c] + i][corner] =
+            static_cast<std::int32_t>(first_vertex[o] + static_cast<std::size_t>(it - used[o].begin()));
       }
     parts[c] = {};
   });
