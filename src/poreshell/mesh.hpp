@@ -32,7 +32,6 @@ struct MeshTopology {
 
 // edge_table_bytes bounds the edge table (16 bytes per triangle side): larger meshes are checked in
 // several passes over vertex ranges, with the same result.
-MeshTopology analyze_topology(const TriangleMesh& mesh,
-                              std::size_t edge_table_bytes = std::size_t{256} << 20);
+MeshTopology analyze_topology(const TriangleMesh& mesh, std::size_t edge_table_bytes = std::size_t{64} << 20);
 
 }  // namespace poreshell

@@ -426,10 +426,15 @@ PipelineResult run_pipeline(const PipelineConfig& given) {
   // The unperforated solid gives the reference Euler characteristic: each pore is one tunnel, so
   // pores = (chi0 - chi) / 2. Computed, not derived from the input's topology, because the band closes
   // holes narrower than about 2 delta (a scan's small holes) and may merge close sheets.
+  // The extractor's meshes are closed 2-manifolds (every edge in two triangles: E = 3F/2, tested), so
+  // chi = V - F/2 without a topology pass over a mesh that is not written.
   const std::vector<double> solid(band.size(), -1.0);
-  result.unperforated_euler =
-      analyze_topology(shell ? unperforated_shell_mesh(*shell) : narrow_volume_mesh(band, solid, 0.0))
-          .euler_characteristic;
+  {
+    const TriangleMesh unperforated =
+        shell ? unperforated_shell_mesh(*shell) : narrow_volume_mesh(band, solid, 0.0);
+    result.unperforated_euler = static_cast<std::int64_t>(unperforated.vertices.size()) -
+                                static_cast<std::int64_t>(unperforated.triangles.size()) / 2;
+  }
   const bool several = config.iso_levels.size() > 1;
   std::vector<TriangleMesh> meshes;
   for (double iso : config.iso_levels) {
