@@ -63,8 +63,8 @@ BandInterpolation::BandInterpolation(const NarrowBand& from, std::span<const Vec
     Compact& s = compact_[i];
     for (int r = 0; r < 4; ++r) {
       const Coord c{base.i, base.j + (r & 1), base.k + (r >> 1)};
-      const std::int64_t at = from.find(c), next = from.find({c.i + 1, c.j, c.k});
-      if (at < 0 || next != at + 1) {
+      const auto [at, next] = from.find_x_pair(c);
+      if (at < 0 || next < 0) {
         s.row[0] = -1;  // marked: a partial stencil below
         return;
       }
