@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <functional>
@@ -179,6 +180,29 @@ TEST(Isosurface, SameBytesForAnyThreadCount) {
   EXPECT_EQ(one.triangles, two.triangles);
   ASSERT_EQ(one.vertices.size(), two.vertices.size());
   for (std::size_t v = 0; v < one.vertices.size(); ++v) ASSERT_EQ(one.vertices[v], two.vertices[v]) << v;
+}
+
+// Points in key order are read as they are, others through a sorted copy: the same mesh either way.
+TEST(Isosurface, SameMeshForPointsInAnyOrder) {
+  const Field sorted = sphere_shell(29, 10.0);  // made in key order
+  Field shuffled = sorted;
+  std::vector<std::size_t> order(sorted.points.size());
+  for (std::size_t n = 0; n < order.size(); ++n) order[n] = n;
+  std::shuffle(order.begin(), order.end(), std::mt19937(3));
+  for (std::size_t n = 0; n < order.size(); ++n) {
+    shuffled.points[n] = sorted.points[order[n]];
+    shuffled.values[n] = sorted.values[order[n]];
+  }
+  const TriangleMesh a = extract_isosurface(sorted.view(), 0.0), b = extract_isosurface(shuffled.view(), 0.0);
+  ASSERT_GT(a.triangles.size(), 1000u);
+  EXPECT_EQ(a.triangles, b.triangles);
+  EXPECT_EQ(a.vertices, b.vertices);
+  // A point given twice is refused on both paths.
+  for (Field twice : {sorted, shuffled}) {
+    twice.points.insert(twice.points.begin() + 5, twice.points[5]);
+    twice.values.insert(twice.values.begin() + 5, twice.values[5]);
+    EXPECT_THROW(extract_isosurface(twice.view(), 0.0), std::invalid_argument);
+  }
 }
 
 TEST(Isosurface, VerticesAreInWorldCoordinates) {

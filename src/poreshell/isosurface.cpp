@@ -199,24 +199,34 @@ void polygonize_cell(std::int64_t cell, const PaddedGrid& grid, const FieldLooku
 }
 
 FieldLookup sorted_field(const SparseField& field, const PaddedGrid& grid) {
-  std::vector<std::pair<std::int64_t, double>> entries(field.points.size());
-  for (std::size_t n = 0; n < entries.size(); ++n) {
-    if (!field.grid->contains(field.points[n]))
+  const std::size_t n = field.points.size();
+  for (std::size_t p = 0; p < n; ++p) {
+    if (!field.grid->contains(field.points[p]))
       throw std::invalid_argument("isosurface: point outside the grid");
-    if (std::isnan(field.values[n])) throw std::invalid_argument("isosurface: NaN field value");
-    entries[n] = {grid.key(field.points[n]), field.values[n]};
+    if (std::isnan(field.values[p])) throw std::invalid_argument("isosurface: NaN field value");
   }
-  tbb::parallel_sort(entries.begin(), entries.end());
   FieldLookup lookup;
   lookup.background = field.background;
-  lookup.keys.reserve(entries.size());
-  lookup.values.reserve(entries.size());
-  for (std::size_t n = 0; n < entries.size(); ++n) {
-    if (n > 0 && entries[n].first == entries[n - 1].first)
-      throw std::invalid_argument("isosurface: the same grid point is given twice");
-    lookup.keys.push_back(entries[n].first);
-    lookup.values.push_back(entries[n].second);
+  lookup.keys.resize(n);
+  lookup.values.resize(n);
+  // Points given in key order (the shell's samples) are taken as they are: no sorted copy.
+  const auto by_key = [&](const Coord& a, const Coord& b) { return grid.key(a) < grid.key(b); };
+  if (std::is_sorted(field.points.begin(), field.points.end(), by_key)) {
+    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t p) {
+      lookup.keys[p] = grid.key(field.points[p]);
+      lookup.values[p] = field.values[p];
+    });
+  } else {
+    std::vector<std::pair<std::int64_t, double>> entries(n);
+    for (std::size_t p = 0; p < n; ++p) entries[p] = {grid.key(field.points[p]), field.values[p]};
+    tbb::parallel_sort(entries.begin(), entries.end());
+    for (std::size_t p = 0; p < n; ++p) {
+      lookup.keys[p] = entries[p].first;
+      lookup.values[p] = entries[p].second;
+    }
   }
+  if (std::adjacent_find(lookup.keys.begin(), lookup.keys.end()) != lookup.keys.end())
+    throw std::invalid_argument("isosurface: the same grid point is given twice");
   return lookup;
 }
 
@@ -242,18 +252,16 @@ TriangleMesh extract_isosurface(const SparseField& field, double iso) {
   const std::size_t per_chunk =
       std::max(kPointsPerChunk, 4 * n_points / static_cast<std::size_t>(std::max<std::int64_t>(1, grid.nz)));
   const std::size_t chunks = (n_points + per_chunk - 1) / per_chunk;
-  constexpr std::int64_t kLowest = std::numeric_limits<std::int64_t>::min();
-  constexpr std::int64_t kHighest = std::numeric_limits<std::int64_t>::max();
-  std::vector<std::int64_t> chunk_first(chunks);  // chunk c holds the cubes with keys in [first c, first c+1)
-  for (std::size_t c = 0; c < chunks; ++c) chunk_first[c] = c == 0 ? kLowest : lookup.keys[c * per_chunk];
-  std::vector<std::vector<EdgeTriangle>> parts(chunks);
-  std::vector<std::vector<std::int64_t>> used(chunks);  // each chunk's edge names, sorted, distinct
-  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
-    const std::int64_t first = chunk_first[c];
-    const std::int64_t last = c + 1 == chunks ? kHighest : chunk_first[c + 1];
+  // Chunk c holds the cubes with keys in [chunk_first[c], chunk_first[c + 1]).
+  std::vector<std::int64_t> chunk_first(chunks + 1);
+  for (std::size_t c = 0; c < chunks; ++c)
+    chunk_first[c] = c == 0 ? std::numeric_limits<std::int64_t>::min() : lookup.keys[c * per_chunk];
+  chunk_first[chunks] = std::numeric_limits<std::int64_t>::max();
+  const auto chunk_triangles = [&](std::size_t c, std::vector<EdgeTriangle>& out) {
+    const std::int64_t first = chunk_first[c], last = chunk_first[c + 1];
     const auto begin = std::lower_bound(lookup.keys.begin(), lookup.keys.end(), first);
-    const auto end = last == kHighest ? lookup.keys.end()
-                                      : std::lower_bound(begin, lookup.keys.end(), last + grid.offset(7));
+    const auto end = c + 1 == chunks ? lookup.keys.end()
+                                     : std::lower_bound(begin, lookup.keys.end(), last + grid.offset(7));
     std::vector<std::int64_t> cells;
     for (auto it = begin; it != end; ++it)
       if (lookup.values[static_cast<std::size_t>(it - lookup.keys.begin())] < iso)
@@ -263,18 +271,28 @@ TriangleMesh extract_isosurface(const SparseField& field, double iso) {
         }
     std::sort(cells.begin(), cells.end());
     cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
-    for (std::int64_t cell : cells) polygonize_cell(cell, grid, lookup, iso, parts[c]);
+    out.clear();
+    for (std::int64_t cell : cells) polygonize_cell(cell, grid, lookup, iso, out);
+  };
+
+  // Two passes over the chunks: the first counts each chunk's triangles and collects its edge names,
+  // the second makes the triangles again and writes them straight into the indexed mesh. Keeping them
+  // between the passes would hold every triangle as three 8-byte names, half a gigabyte at 24 M
+  // triangles, beside the mesh being filled; making them twice costs a few percent of the extraction.
+  std::vector<std::size_t> first_triangle(chunks + 1, 0);
+  std::vector<std::vector<std::int64_t>> used(chunks);  // each chunk's edge names, sorted, distinct
+  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+    std::vector<EdgeTriangle> triangles;
+    chunk_triangles(c, triangles);
+    first_triangle[c + 1] = triangles.size();
     std::vector<std::int64_t>& names = used[c];
-    names.reserve(3 * parts[c].size());
-    for (const auto& t : parts[c]) names.insert(names.end(), t.begin(), t.end());
+    names.reserve(3 * triangles.size());
+    for (const auto& t : triangles) names.insert(names.end(), t.begin(), t.end());
     std::sort(names.begin(), names.end());
     names.erase(std::unique(names.begin(), names.end()), names.end());
     names.shrink_to_fit();
   });
-  // The chunks' triangles stay where they are (no concatenated copy): at 24 M triangles each copy of
-  // them is half a gigabyte.
-  std::vector<std::size_t> first_triangle(chunks + 1, 0);
-  for (std::size_t c = 0; c < chunks; ++c) first_triangle[c + 1] = first_triangle[c] + parts[c].size();
+  for (std::size_t c = 0; c < chunks; ++c) first_triangle[c + 1] += first_triangle[c];
 
   // Weld: vertex index = rank of the edge name among all names used, found chunk by chunk. A name's
   // lower end lies in the cube that made it or beyond, so each name has an owner: the chunk whose key
@@ -287,9 +305,8 @@ TriangleMesh extract_isosurface(const SparseField& field, double iso) {
   };
   std::vector<std::int64_t> handed_on;  // names a chunk uses but a later chunk owns (at its start)
   for (std::size_t c = 0; c < chunks; ++c) {
-    const std::int64_t last = c + 1 == chunks ? kHighest : chunk_first[c + 1];
     auto& names = used[c];
-    const auto own_end = std::lower_bound(names.begin(), names.end(), last,
+    const auto own_end = std::lower_bound(names.begin(), names.end(), chunk_first[c + 1],
                                           [](std::int64_t name, std::int64_t key) { return name / 8 < key; });
     handed_on.insert(handed_on.end(), own_end, names.end());
     names.erase(own_end, names.end());
@@ -322,15 +339,16 @@ TriangleMesh extract_isosurface(const SparseField& field, double iso) {
 
   mesh.triangles.resize(first_triangle[chunks]);
   tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
-    for (std::size_t i = 0; i < parts[c].size(); ++i)
+    std::vector<EdgeTriangle> triangles;
+    chunk_triangles(c, triangles);
+    for (std::size_t i = 0; i < triangles.size(); ++i)
       for (int corner = 0; corner < 3; ++corner) {
-        const std::int64_t name = parts[c][i][corner];
+        const std::int64_t name = triangles[i][corner];
         const std::size_t o = owner(name);
         const auto it = std::lower_bound(used[o].begin(), used[o].end(), name);
         mesh.triangles[first_triangle[c] + i][corner] =
             static_cast<std::int32_t>(first_vertex[o] + static_cast<std::size_t>(it - used[o].begin()));
       }
-    parts[c] = {};
   });
   return mesh;
 }

@@ -1,6 +1,7 @@
 #include "poreshell/shell.hpp"
 
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <cmath>
@@ -145,20 +146,28 @@ ShellSamples sample_shell(const Surface& surface, const NarrowBand& band, std::s
     scan_block(surface, out.grid, origin, kTopBlock, reach,
                [&](const Coord& c) { return sample(c, samples); });
   });
+  // In key order, whatever the blocks: the isosurface then needs no sorted copy of its own (two
+  // extractions read these samples), and the order does not depend on the scan's blocking.
   std::size_t total = 0;
   for (const auto& block : per_block) total += block.size();
-  out.points.reserve(total);
-  out.wall.reserve(total);
-  out.pattern.reserve(total);
+  std::vector<Sample> all;
+  all.reserve(total);
   for (auto& block : per_block) {
-    for (const Sample& s : block) {
-      out.points.push_back(s.point);
-      out.wall.push_back(s.wall);
-      out.pattern.push_back(s.pattern);
-      out.incomplete_stencils += s.incomplete;
-    }
+    all.insert(all.end(), block.begin(), block.end());
     block = {};
   }
+  tbb::parallel_sort(all.begin(), all.end(), [&](const Sample& a, const Sample& b) {
+    return out.grid.key(a.point) < out.grid.key(b.point);
+  });
+  out.points.resize(total);
+  out.wall.resize(total);
+  out.pattern.resize(total);
+  tbb::parallel_for(std::size_t{0}, total, [&](std::size_t n) {
+    out.points[n] = all[n].point;
+    out.wall[n] = all[n].wall;
+    out.pattern[n] = all[n].pattern;
+  });
+  for (const Sample& s : all) out.incomplete_stencils += s.incomplete;
   return out;
 }
 
