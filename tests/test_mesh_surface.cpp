@@ -414,6 +414,20 @@ TEST(MeshSurface, SphereWithHoleMatchesBruteForce) {
   expect_matches_brute_force(m, 1500);
 }
 
+// The one-search query gives bit for bit what distance and closest_point give apart.
+TEST(MeshSurface, OneSearchGivesBothAnswersExactly) {
+  const MeshSurface surface(holed_sphere());
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.5, 1.5);
+  for (int i = 0; i < 500; ++i) {
+    const Vec3 p(u(rng), u(rng), u(rng));
+    const SurfaceQuery q = surface.distance_and_closest_point(p);
+    ASSERT_EQ(q.distance, surface.distance(p));
+    ASSERT_TRUE(q.closest_point);
+    ASSERT_EQ(*q.closest_point, *surface.closest_point(p));
+  }
+}
+
 // nearest_triangle names a triangle of the input mesh (not of the tree's leaf order), never one that is
 // skipped for a repeated vertex, and gives closest_point's point.
 TEST(MeshSurface, NearestTriangleIndexesTheInputTriangles) {

@@ -7,12 +7,12 @@
 #include <cmath>
 #include <limits>
 
+#include "poreshell/band_scan.hpp"
 #include "poreshell/error.hpp"
 
 namespace poreshell {
 namespace {
 
-constexpr int kBlock = 8;  // side of the blocks the Lipschitz bound accepts or skips whole
 constexpr std::array<Coord, 6> kOffsets{
     {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}}};
 
@@ -50,66 +50,42 @@ struct ScannedVoxel {
   double psi;
 };
 
-// Candidate voxels of one block: those that satisfy the band rule. psi is cached over the block and a
-// one-cell halo, so the central differences reuse the neighbours' own values: about 3x fewer distance
-// queries near the surface, which is where a mesh's queries cost.
-void scan_block(const Surface& surface, const Grid& grid, const Coord& block_origin, double delta,
-                std::vector<ScannedVoxel>& out) {
-  constexpr int kSide = kBlock + 2;
-  std::array<double, kSide * kSide * kSide> cache;
-  cache.fill(std::numeric_limits<double>::quiet_NaN());
-  auto psi_at = [&](int i, int j, int k) {  // block-local coordinates, -1 .. kBlock
-    double& slot = cache[static_cast<std::size_t>((i + 1) + kSide * ((j + 1) + kSide * (k + 1)))];
-    if (std::isnan(slot))
-      slot = surface.distance(grid.position({block_origin.i + i, block_origin.j + j, block_origin.k + k}));
-    return slot;
-  };
-  const auto& d = grid.dims();
+// The voxels that satisfy the band rule, by key. Only points with |psi| < sqrt(3) delta can (|grad_h
+// psi| <= sqrt(3) for a 1-Lipschitz psi), and their neighbours are within the near field's reach.
+std::vector<ScannedVoxel> band_voxels(const NearField& near, const Surface& surface, const Grid& grid,
+                                      double delta) {
   const double inv_2h = 0.5 / grid.h();
-  for (int k = 0; k < std::min(kBlock, d[2] - block_origin.k); ++k)
-    for (int j = 0; j < std::min(kBlock, d[1] - block_origin.j); ++j)
-      for (int i = 0; i < std::min(kBlock, d[0] - block_origin.i); ++i) {
-        const double psi = psi_at(i, j, k);
-        // |grad_h psi| <= sqrt(3) for a 1-Lipschitz psi, so |psi| >= sqrt(3) delta is outside the band,
-        // and so are the next points of the row that psi's Lipschitz bound keeps that far.
-        if (std::abs(psi) >= delta * std::sqrt(3.0)) {
-          i += static_cast<int>(std::floor((std::abs(psi) - delta * std::sqrt(3.0)) / grid.h()));
-          continue;
-        }
-        const Vec3 gradient((psi_at(i + 1, j, k) - psi_at(i - 1, j, k)) * inv_2h,
-                            (psi_at(i, j + 1, k) - psi_at(i, j - 1, k)) * inv_2h,
-                            (psi_at(i, j, k + 1) - psi_at(i, j, k - 1)) * inv_2h);
-        if (in_band({psi, gradient}, delta))
-          out.push_back({grid.key({block_origin.i + i, block_origin.j + j, block_origin.k + k}), psi});
-      }
-}
-
-std::vector<ScannedVoxel> scan_band(const Surface& surface, const Grid& grid, double delta,
-                                    BandStats& stats) {
-  const auto& d = grid.dims();
-  const std::array<int, 3> blocks{(d[0] + kBlock - 1) / kBlock, (d[1] + kBlock - 1) / kBlock,
-                                  (d[2] + kBlock - 1) / kBlock};
-  const std::int64_t block_count = std::int64_t{blocks[0]} * blocks[1] * blocks[2];
-  const double half_diagonal = 0.5 * std::sqrt(3.0) * kBlock * grid.h();
-  std::vector<std::vector<ScannedVoxel>> per_block(static_cast<std::size_t>(block_count));
-  std::vector<char> visited(static_cast<std::size_t>(block_count), 0);
-  tbb::parallel_for(std::int64_t{0}, block_count, [&](std::int64_t b) {
-    const Coord origin{static_cast<int>(b % blocks[0]) * kBlock,
-                       static_cast<int>((b / blocks[0]) % blocks[1]) * kBlock,
-                       static_cast<int>(b / (std::int64_t{blocks[0]} * blocks[1])) * kBlock};
-    const Vec3 center = grid.position(origin) + Vec3::Constant(0.5 * (kBlock - 1) * grid.h());
-    if (std::abs(surface.distance(center)) > half_diagonal + delta * std::sqrt(3.0)) return;
-    visited[static_cast<std::size_t>(b)] = 1;
-    scan_block(surface, grid, origin, delta, per_block[static_cast<std::size_t>(b)]);
+  const auto psi_at = [&](const Coord& c) {
+    const double psi = near.psi(c);
+    return std::isnan(psi) ? surface.distance(grid.position(c)) : psi;  // beyond reach: only by rounding
+  };
+  std::vector<std::vector<ScannedVoxel>> per_block(near.block_count());
+  tbb::parallel_for(std::size_t{0}, near.block_count(), [&](std::size_t b) {
+    near.for_each_near_point(b, [&](const Coord& c, double psi) {
+      if (std::abs(psi) >= delta * std::sqrt(3.0)) return;
+      const Vec3 gradient((psi_at({c.i + 1, c.j, c.k}) - psi_at({c.i - 1, c.j, c.k})) * inv_2h,
+                          (psi_at({c.i, c.j + 1, c.k}) - psi_at({c.i, c.j - 1, c.k})) * inv_2h,
+                          (psi_at({c.i, c.j, c.k + 1}) - psi_at({c.i, c.j, c.k - 1})) * inv_2h);
+      if (in_band({psi, gradient}, delta)) per_block[b].push_back({grid.key(c), psi});
+    });
   });
   std::vector<ScannedVoxel> found;
-  for (std::size_t b = 0; b < per_block.size(); ++b) {
-    stats.candidate_blocks += visited[b];
-    found.insert(found.end(), per_block[b].begin(), per_block[b].end());
+  for (auto& block : per_block) {
+    found.insert(found.end(), block.begin(), block.end());
+    block = {};
   }
   std::sort(found.begin(), found.end(),
             [](const ScannedVoxel& a, const ScannedVoxel& b) { return a.key < b.key; });
   return found;
+}
+
+// The closest point of grid point c by the band's rule: the near field's where it recorded the surface's
+// exact one, else asked again.
+Vec3 closest_point_of(const NearField& near, const Surface& surface, const Grid& grid, const Coord& c,
+                      ClosestPointRule rule) {
+  if (rule == ClosestPointRule::exact)
+    if (const Vec3* cp = near.closest_point(c)) return *cp;
+  return closest_point_at(surface, grid, c, rule);
 }
 
 }  // namespace
@@ -217,16 +193,30 @@ void NarrowBand::fill_ghosts(std::span<float> extended, int parity) const {
   fill_ghost_range(stencils_, voxels_.size(), begin, end, extended);
 }
 
+std::vector<Vec3> NarrowBand::closest_points() const {
+  std::vector<Vec3> cps(voxels_.size());
+  for (std::size_t v = 0; v < cps.size(); ++v) {
+    const auto& o = closest_point_offsets_[v];
+    cps[v] = grid_.position(voxels_[v]) + grid_.h() * Vec3(o[0], o[1], o[2]);
+  }
+  return cps;
+}
+
 std::size_t NarrowBand::memory_bytes() const {
   return voxels_.capacity() * sizeof(Coord) + keys_.capacity() * sizeof(std::int64_t) +
          distance_.capacity() * sizeof(double) + ghosts_.capacity() * sizeof(Coord) +
-         neighbors_.capacity() * sizeof(std::int32_t) + stencils_.capacity() * sizeof(GhostStencil);
+         neighbors_.capacity() * sizeof(std::int32_t) + stencils_.capacity() * sizeof(GhostStencil) +
+         closest_point_offsets_.capacity() * sizeof(closest_point_offsets_[0]);
 }
 
 NarrowBand build_band(const Surface& surface, const Grid& grid, const BandOptions& options) {
   NarrowBand band(grid);
   const double delta = options.delta_in_h * grid.h();
-  const std::vector<ScannedVoxel> scanned = scan_band(surface, grid, delta, band.stats_);
+  // Reach: band candidates (|psi| < sqrt(3) delta) and one cell beyond, which holds their neighbours,
+  // the ghosts and the ghosts' stencil corners (within sqrt(3) h of the surface); 1% for rounding.
+  const NearField near(surface, grid, delta * std::sqrt(3.0) + 1.01 * grid.h());
+  band.stats_.candidate_blocks = near.blocks_scanned();
+  const std::vector<ScannedVoxel> scanned = band_voxels(near, surface, grid, delta);
   std::vector<std::int64_t> keys(scanned.size());
   for (std::size_t v = 0; v < scanned.size(); ++v) keys[v] = scanned[v].key;
   if (keys.empty())
@@ -264,7 +254,7 @@ NarrowBand build_band(const Surface& surface, const Grid& grid, const BandOption
     std::vector<double> offsets(ghost_keys.size(), 0.0);
     tbb::parallel_for(std::size_t{0}, ghost_keys.size(), [&](std::size_t g) {
       const Coord c = band.ghosts_[g];
-      const Vec3 cp = closest_point_at(surface, grid, c, options.closest_point);
+      const Vec3 cp = closest_point_of(near, surface, grid, c, options.closest_point);
       offsets[g] = (cp - grid.position(c)).norm() / grid.h();
       const Vec3 q = grid.to_index_space(cp);
       const Coord base{static_cast<int>(std::floor(q.x())), static_cast<int>(std::floor(q.y())),
@@ -323,13 +313,23 @@ NarrowBand build_band(const Surface& surface, const Grid& grid, const BandOption
   }
 
   band.distance_.resize(band.voxels_.size());
+  band.closest_point_offsets_.resize(band.voxels_.size());
   tbb::parallel_for(std::size_t{0}, band.voxels_.size(), [&](std::size_t v) {
     const std::int64_t key = band.keys_[v];
     const auto it = std::lower_bound(scanned.begin(), scanned.end(), key,
                                      [](const ScannedVoxel& a, std::int64_t k) { return a.key < k; });
-    // Voxels added by the closure were not scanned into the band: query them.
-    band.distance_[v] =
-        (it != scanned.end() && it->key == key) ? it->psi : surface.distance(grid.position(band.voxels_[v]));
+    // Voxels added by the closure were not scanned into the band: the near field has them.
+    if (it != scanned.end() && it->key == key) {
+      band.distance_[v] = it->psi;
+    } else {
+      const double psi = near.psi(band.voxels_[v]);
+      band.distance_[v] = std::isnan(psi) ? surface.distance(grid.position(band.voxels_[v])) : psi;
+    }
+    const Vec3 offset = (closest_point_of(near, surface, grid, band.voxels_[v], options.closest_point) -
+                         grid.position(band.voxels_[v])) /
+                        grid.h();
+    band.closest_point_offsets_[v] = {static_cast<float>(offset.x()), static_cast<float>(offset.y()),
+                                      static_cast<float>(offset.z())};
   });
   return band;
 }

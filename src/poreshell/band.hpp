@@ -76,6 +76,9 @@ class NarrowBand {
   std::span<const Coord> ghosts() const { return ghosts_; }
   // Signed distance psi at each band voxel, as the surface gave it.
   std::span<const double> distance() const { return distance_; }
+  // cp(x) of each band voxel by the band's closest-point rule, for the multigrid's transfers. Kept as
+  // float offsets from the voxel in units of h (12 bytes a voxel; the transfers are float).
+  std::vector<Vec3> closest_points() const;
   // Neighbour n of band voxel v: an index into the extended array (< size(): band; else ghost).
   std::int32_t neighbor(std::size_t v, int n) const { return neighbors_[v * kNeighbors + n]; }
   std::span<const std::int32_t> neighbor_table() const { return neighbors_; }
@@ -109,6 +112,7 @@ class NarrowBand {
   std::vector<Coord> voxels_;
   std::vector<std::int64_t> keys_;  // grid keys of voxels_, ascending
   std::vector<double> distance_;
+  std::vector<std::array<float, 3>> closest_point_offsets_;
   std::vector<Coord> ghosts_;  // even i + j + k first, then odd; by key within each
   std::size_t odd_ghosts_begin_ = 0;
   std::vector<std::int32_t> neighbors_;

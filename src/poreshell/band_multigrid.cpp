@@ -33,14 +33,6 @@ void for_each_index(std::size_t n, const Body& body) {
                     });
 }
 
-std::vector<Vec3> voxel_closest_points(const NarrowBand& band, const Surface& surface) {
-  std::vector<Vec3> cps(band.size());
-  tbb::parallel_for(std::size_t{0}, band.size(), [&](std::size_t v) {
-    cps[v] = closest_point_at(surface, band.grid(), band.voxels()[v], ClosestPointRule::exact);
-  });
-  return cps;
-}
-
 // The grid of spacing h that holds the surface's band with kPadCells of margin.
 Grid covering_grid(const Surface& surface, double h) {
   const Box box = surface.bounds();
@@ -94,13 +86,13 @@ BandMultigrid::BandMultigrid(const NarrowBand& fine, const Surface& surface, dou
   if (!(z_min > 0.0)) throw std::invalid_argument("multigrid: the shift must be positive");
   levels_.emplace_back();
   levels_.back().band = &fine;
-  std::vector<Vec3> finer_cps = voxel_closest_points(fine, surface);
+  std::vector<Vec3> finer_cps = fine.closest_points();
   while (static_cast<int>(levels_.size()) < kMaxLevels) {
     const NarrowBand& finer = *levels_.back().band;
     const double h = finer.grid().h();
     if (z_min * h * h >= kCoarseEnough || finer.size() < kSmallestBand) break;
     auto coarse = std::make_unique<NarrowBand>(build_band(surface, covering_grid(surface, 2.0 * h)));
-    std::vector<Vec3> cps = voxel_closest_points(*coarse, surface);
+    std::vector<Vec3> cps = coarse->closest_points();
     Level level;
     level.from_finer = BandInterpolation(finer, cps);
     levels_.back().to_coarser = BandInterpolation(*coarse, finer_cps);

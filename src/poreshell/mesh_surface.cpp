@@ -211,6 +211,13 @@ std::optional<Vec3> MeshSurface::closest_point(const Vec3& p) const {
   return closest;
 }
 
+SurfaceQuery MeshSurface::distance_and_closest_point(const Vec3& p) const {
+  Vec3 closest;
+  std::int32_t index = 0;
+  const double d2 = nearest(p, closest, index);
+  return {std::sqrt(d2), closest};
+}
+
 MeshSurface::NearestTriangle MeshSurface::nearest_triangle(const Vec3& p) const {
   NearestTriangle out;
   std::int32_t index = 0;

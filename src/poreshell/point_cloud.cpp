@@ -156,6 +156,13 @@ std::optional<Vec3> SplatSurface::closest_point(const Vec3& p) const {
   return cp;
 }
 
+SurfaceQuery SplatSurface::distance_and_closest_point(const Vec3& p) const {
+  const auto [i, d] = tree_->closest(p, [&](std::size_t j) { return splat_distance(j, p, nullptr); });
+  Vec3 cp;
+  splat_distance(i, p, &cp);
+  return {d, cp};
+}
+
 Box SplatSurface::bounds() const {
   Box box{points_.front(), points_.front()};
   for (std::size_t i = 0; i < points_.size(); ++i) {

@@ -66,6 +66,7 @@ class SplatSurface final : public Surface {
   double distance(const Vec3& p) const override;  // unsigned
   std::optional<Vec3> closest_point(const Vec3& p) const override;
   bool closest_point_is_exact() const override { return true; }
+  SurfaceQuery distance_and_closest_point(const Vec3& p) const override;  // one search
   Box bounds() const override;
   std::string name() const override { return "point splats"; }
 

@@ -10,6 +10,11 @@
 
 namespace poreshell {
 
+struct SurfaceQuery {
+  double distance = 0.0;
+  std::optional<Vec3> closest_point;
+};
+
 class Surface {
  public:
   virtual ~Surface() = default;
@@ -26,6 +31,12 @@ class Surface {
   // up to rounding: one query then gives both. Not for a sampled level set, whose distance is its
   // samples', not that of its closest points.
   virtual bool closest_point_is_exact() const { return false; }
+
+  // distance(p) and closest_point(p) together, bit for bit the same values; sources whose two answers
+  // come from one search (a mesh's tree) override it to search once.
+  virtual SurfaceQuery distance_and_closest_point(const Vec3& p) const {
+    return {distance(p), closest_point(p)};
+  }
 
   // A box that holds the whole surface.
   virtual Box bounds() const = 0;
