@@ -257,7 +257,8 @@ TriangleMesh extract_isosurface(const SparseField& field, double iso) {
   for (std::size_t c = 0; c < chunks; ++c)
     chunk_first[c] = c == 0 ? std::numeric_limits<std::int64_t>::min() : lookup.keys[c * per_chunk];
   chunk_first[chunks] = std::numeric_limits<std::int64_t>::max();
-  const auto chunk_triangles = [&](std::size_t c, std::vector<EdgeTriangle>& out) {
+  // The cubes of chunk c that may hold surface, in key order.
+  const auto chunk_cells = [&](std::size_t c) {
     const std::int64_t first = chunk_first[c], last = chunk_first[c + 1];
     const auto begin = std::lower_bound(lookup.keys.begin(), lookup.keys.end(), first);
     const auto end = c + 1 == chunks ? lookup.keys.end()
@@ -271,19 +272,24 @@ TriangleMesh extract_isosurface(const SparseField& field, double iso) {
         }
     std::sort(cells.begin(), cells.end());
     cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
-    out.clear();
-    for (std::int64_t cell : cells) polygonize_cell(cell, grid, lookup, iso, out);
+    return cells;
   };
 
-  // Two passes over the chunks: the first counts each chunk's triangles and collects its edge names,
-  // the second makes the triangles again and writes them straight into the indexed mesh. Keeping them
-  // between the passes would hold every triangle as three 8-byte names, half a gigabyte at 24 M
-  // triangles, beside the mesh being filled; making them twice costs a few percent of the extraction.
+  // Two passes over the chunks: the first counts each chunk's triangles, collects its edge names and
+  // keeps the cubes that made any; the second makes their triangles again and writes them straight into
+  // the indexed mesh. Keeping the triangles between the passes would hold each as three 8-byte names,
+  // half a gigabyte at 24 M triangles, beside the mesh being filled; a kept cube costs 8 bytes.
   std::vector<std::size_t> first_triangle(chunks + 1, 0);
-  std::vector<std::vector<std::int64_t>> used(chunks);  // each chunk's edge names, sorted, distinct
+  std::vector<std::vector<std::int64_t>> used(chunks);           // each chunk's edge names, sorted, distinct
+  std::vector<std::vector<std::int64_t>> surface_cells(chunks);  // each chunk's cubes with triangles
   tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
     std::vector<EdgeTriangle> triangles;
-    chunk_triangles(c, triangles);
+    for (std::int64_t cell : chunk_cells(c)) {
+      const std::size_t before = triangles.size();
+      polygonize_cell(cell, grid, lookup, iso, triangles);
+      if (triangles.size() > before) surface_cells[c].push_back(cell);
+    }
+    surface_cells[c].shrink_to_fit();
     first_triangle[c + 1] = triangles.size();
     std::vector<std::int64_t>& names = used[c];
     names.reserve(3 * triangles.size());
@@ -340,7 +346,8 @@ TriangleMesh extract_isosurface(const SparseField& field, double iso) {
   mesh.triangles.resize(first_triangle[chunks]);
   tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
     std::vector<EdgeTriangle> triangles;
-    chunk_triangles(c, triangles);
+    for (std::int64_t cell : surface_cells[c]) polygonize_cell(cell, grid, lookup, iso, triangles);
+    surface_cells[c] = {};
     for (std::size_t i = 0; i < triangles.size(); ++i)
       for (int corner = 0; corner < 3; ++corner) {
         const std::int64_t name = triangles[i][corner];

@@ -357,7 +357,9 @@ PipelineResult run_pipeline(const PipelineConfig& given) {
         input_field(config, placed, config.grade->property, "--grade field:" + config.grade->property);
 
   t = std::chrono::steady_clock::now();
-  const NarrowBand band = build_band(*placed.surface, grid);
+  // Optional so that shell mode can free it before meshing, the stage with the largest footprint.
+  std::optional<NarrowBand> band_storage(build_band(*placed.surface, grid));
+  const NarrowBand& band = *band_storage;
   result.seconds_band = seconds_since(t);
   result.peak_rss_after_band = peak_rss_bytes();
   result.band_voxels = band.size();
@@ -423,39 +425,49 @@ PipelineResult run_pipeline(const PipelineConfig& given) {
     result.solid.spacing_mm = grid.h() * placed.mm_per_grid();
   }
   result.solid.offset = config.offset;
+  // What the band and phi tell about each level, before meshing: in shell mode the band is then freed
+  // (half a gigabyte at 6 M band voxels), as the meshes need only the shell's samples.
+  const bool several = config.iso_levels.size() > 1;
+  for (double iso : config.iso_levels) {
+    MeshOutput out;
+    out.iso = iso;
+    out.path = output_path_for_level(config.output, iso, several);
+    out.holes = holes_in_mm(band, phi, iso, placed);
+    out.spots_at_iso = static_cast<std::int64_t>(out.holes.holes.size());  // every spot is a hole
+    result.meshes.push_back(out);
+  }
+  std::vector<std::vector<WallProbe>> probes;
+  if (shell)
+    for (double iso : config.iso_levels)
+      probes.push_back(wall_probes(placed, band, phi, iso, result.solid.wall_mm,
+                                   parse_wall_offset(config.offset), side.side));
+  if (shell) {
+    phi = {};
+    band_storage.reset();  // `band` is not used below in shell mode
+  }
   // The unperforated solid gives the reference Euler characteristic: each pore is one tunnel, so
   // pores = (chi0 - chi) / 2. Computed, not derived from the input's topology, because the band closes
   // holes narrower than about 2 delta (a scan's small holes) and may merge close sheets.
   // The extractor's meshes are closed 2-manifolds (every edge in two triangles: E = 3F/2, tested), so
   // chi = V - F/2 without a topology pass over a mesh that is not written.
-  const std::vector<double> solid(band.size(), -1.0);
   {
     const TriangleMesh unperforated =
-        shell ? unperforated_shell_mesh(*shell) : narrow_volume_mesh(band, solid, 0.0);
+        shell ? unperforated_shell_mesh(*shell)
+              : narrow_volume_mesh(band, std::vector<double>(band.size(), -1.0), 0.0);
     result.unperforated_euler = static_cast<std::int64_t>(unperforated.vertices.size()) -
                                 static_cast<std::int64_t>(unperforated.triangles.size()) / 2;
   }
-  const bool several = config.iso_levels.size() > 1;
   std::vector<TriangleMesh> meshes;
-  for (double iso : config.iso_levels) {
-    MeshOutput out;
-    out.iso = iso;
-    out.path = output_path_for_level(config.output, iso, several);
-    meshes.push_back(shell ? shell_mesh(*shell, iso) : narrow_volume_mesh(band, phi, iso));
+  for (std::size_t level = 0; level < config.iso_levels.size(); ++level) {
+    MeshOutput& out = result.meshes[level];
+    meshes.push_back(shell ? shell_mesh(*shell, out.iso) : narrow_volume_mesh(band, phi, out.iso));
     for (Vec3& v : meshes.back().vertices) v = placed.to_mm(v);
     if (config.max_triangles > 0)
       out.reduction = decimate_mesh(meshes.back(), {config.max_triangles, config.max_deviation});
     out.topology = analyze_topology(meshes.back());
     out.pores_from_euler = (result.unperforated_euler - out.topology.euler_characteristic) / 2;
-    out.holes = holes_in_mm(band, phi, iso, placed);
-    out.spots_at_iso = static_cast<std::int64_t>(out.holes.holes.size());  // every spot is a hole
-    check_printable(out.topology, iso);
-    if (shell)
-      out.wall = measure_wall(meshes.back(),
-                              wall_probes(placed, band, phi, iso, result.solid.wall_mm,
-                                          parse_wall_offset(config.offset), side.side),
-                              4.0 * result.solid.wall_mm);
-    result.meshes.push_back(out);
+    check_printable(out.topology, out.iso);
+    if (shell) out.wall = measure_wall(meshes.back(), probes[level], 4.0 * result.solid.wall_mm);
   }
   for (std::size_t i = 0; i < meshes.size(); ++i) write_mesh(result.meshes[i].path, meshes[i]);
   result.seconds_mesh = seconds_since(t);
