@@ -59,20 +59,20 @@ std::vector<ScannedVoxel> band_voxels(const NearField& near, const Surface& surf
     const double psi = near.psi(c);
     return std::isnan(psi) ? surface.distance(grid.position(c)) : psi;  // beyond reach: only by rounding
   };
-  std::vector<std::vector<ScannedVoxel>> per_block(near.block_count());
-  tbb::parallel_for(std::size_t{0}, near.block_count(), [&](std::size_t b) {
-    near.for_each_near_point(b, [&](const Coord& c, double psi) {
+  std::vector<std::vector<ScannedVoxel>> per_layer(near.layer_count());
+  tbb::parallel_for(std::size_t{0}, near.layer_count(), [&](std::size_t l) {
+    near.for_each_near_point(l, [&](const Coord& c, double psi) {
       if (std::abs(psi) >= delta * std::sqrt(3.0)) return;
       const Vec3 gradient((psi_at({c.i + 1, c.j, c.k}) - psi_at({c.i - 1, c.j, c.k})) * inv_2h,
                           (psi_at({c.i, c.j + 1, c.k}) - psi_at({c.i, c.j - 1, c.k})) * inv_2h,
                           (psi_at({c.i, c.j, c.k + 1}) - psi_at({c.i, c.j, c.k - 1})) * inv_2h);
-      if (in_band({psi, gradient}, delta)) per_block[b].push_back({grid.key(c), psi});
+      if (in_band({psi, gradient}, delta)) per_layer[l].push_back({grid.key(c), psi});
     });
   });
   std::vector<ScannedVoxel> found;
-  for (auto& block : per_block) {
-    found.insert(found.end(), block.begin(), block.end());
-    block = {};
+  for (auto& layer : per_layer) {
+    found.insert(found.end(), layer.begin(), layer.end());
+    layer = {};
   }
   std::sort(found.begin(), found.end(),
             [](const ScannedVoxel& a, const ScannedVoxel& b) { return a.key < b.key; });
@@ -83,8 +83,10 @@ std::vector<ScannedVoxel> band_voxels(const NearField& near, const Surface& surf
 // exact one, else asked again.
 Vec3 closest_point_of(const NearField& near, const Surface& surface, const Grid& grid, const Coord& c,
                       ClosestPointRule rule) {
-  if (rule == ClosestPointRule::exact)
-    if (const Vec3* cp = near.closest_point(c)) return *cp;
+  if (rule == ClosestPointRule::exact && near.has_closest_points()) {
+    const Vec3 cp = near.closest_point(c);
+    if (!std::isnan(cp.x())) return cp;
+  }
   return closest_point_at(surface, grid, c, rule);
 }
 

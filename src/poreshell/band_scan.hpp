@@ -2,16 +2,15 @@
 // The band builder's one pass over the surface: psi = surface.distance at every grid point within
 // `reach` of the surface, and there the closest point too where the surface gives an exact one. Every
 // point is queried at most once; the band rule's central differences, the ghosts' stencils, the
-// closure's corners and the multigrid's transfers then read these values instead of asking the
-// surface again (before, a mesh's tree was searched about 6 times per band voxel).
+// closure's corners and the voxels' closest points then read these values instead of asking the
+// surface again (before, a mesh's tree was searched about 6.5 times per band voxel).
 //
-// Storage is by 8^3 blocks of the grid, kept only where a point is within reach: memory grows with the
-// surface area times the reach, not with the grid.
+// Storage: the points within reach of each 8^3 block of the grid, found through a bit mask per block,
+// in one array per layer of blocks (a few large allocations, which go back to the system when the
+// band is built; many small ones did not). Memory grows with the surface area times the reach.
 
 #include <array>
-#include <cmath>
 #include <cstdint>
-#include <memory>
 #include <vector>
 
 #include "poreshell/grid.hpp"
@@ -27,36 +26,51 @@ class NearField {
 
   // psi at c, or NaN where c is beyond reach or outside the grid.
   double psi(const Coord& c) const;
-  // The closest point recorded at c (within reach, on a surface with exact closest points), else null.
-  const Vec3* closest_point(const Coord& c) const;
+  // Whether closest points were recorded (surfaces with exact ones), and the one at c (within reach).
+  bool has_closest_points() const { return exact_; }
+  Vec3 closest_point(const Coord& c) const;
 
-  // Calls f(c, psi) for the points of block b (0 <= b < block_count()) within reach.
+  // Calls f(c, psi) for the points within reach in layer l of blocks (0 <= l < layer_count()), block
+  // by block; layers may run in parallel.
   template <class F>
-  void for_each_near_point(std::size_t b, const F& f) const {
-    const Block* block = blocks_[b].get();
-    if (block == nullptr) return;
-    for (int s = 0; s < kBlock * kBlock * kBlock; ++s)
-      if (!std::isnan(block->psi[static_cast<std::size_t>(s)]))
-        f(Coord{block->origin.i + s % kBlock, block->origin.j + (s / kBlock) % kBlock,
-                block->origin.k + s / (kBlock * kBlock)},
-          block->psi[static_cast<std::size_t>(s)]);
-  }
-  std::size_t block_count() const { return blocks_.size(); }
+  void for_each_near_point(std::size_t l, const F& f) const;
+  std::size_t layer_count() const { return layers_.size(); }
   std::int64_t blocks_scanned() const { return blocks_scanned_; }
 
  private:
-  struct Block {
+  static constexpr int kSlots = kBlock * kBlock * kBlock;
+  struct BlockEntry {
     Coord origin;
-    std::array<double, kBlock * kBlock * kBlock> psi;  // NaN: beyond reach
-    std::vector<std::uint16_t> slots;                  // near slots with a closest point, ascending
-    std::vector<Vec3> closest;                         // one per slot
+    std::array<std::uint64_t, kSlots / 64> mask{};  // slots within reach
+    std::uint32_t first = 0;                        // its first point in the layer's arrays
   };
-  const Block* block_of(const Coord& c, int& slot) const;
+  struct Layer {
+    std::vector<BlockEntry> blocks;
+    std::vector<double> psi;    // by block, then slot
+    std::vector<Vec3> closest;  // where exact_ (double: the ghosts' stencils use them)
+  };
+  // The layer and point index of c, or false if c is not within reach.
+  bool locate(const Coord& c, const Layer*& layer, std::size_t& point) const;
 
   Grid grid_;
+  bool exact_ = false;
   std::array<int, 3> blocks_per_axis_{};
-  std::vector<std::unique_ptr<Block>> blocks_;  // null: no point within reach (one pointer per block)
+  std::vector<std::int32_t> block_entry_;  // per block of the grid: index in its layer's blocks, or -1
+  std::vector<Layer> layers_;
   std::int64_t blocks_scanned_ = 0;
 };
+
+template <class F>
+void NearField::for_each_near_point(std::size_t l, const F& f) const {
+  const Layer& layer = layers_[l];
+  for (const BlockEntry& block : layer.blocks) {
+    std::size_t point = block.first;
+    for (int s = 0; s < kSlots; ++s)
+      if ((block.mask[static_cast<std::size_t>(s / 64)] >> (s % 64)) & 1)
+        f(Coord{block.origin.i + s % kBlock, block.origin.j + (s / kBlock) % kBlock,
+                block.origin.k + s / (kBlock * kBlock)},
+          layer.psi[point++]);
+  }
+}
 
 }  // namespace poreshell
