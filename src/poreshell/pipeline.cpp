@@ -3,6 +3,9 @@
 #include <tbb/global_control.h>
 
 #include <sys/resource.h>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 #include <unistd.h>
 
 #include <algorithm>
@@ -292,6 +295,24 @@ void check_printable(const MeshTopology& t, double iso) {
                              "); nothing was written. Please report this as a bug");
 }
 
+// glibc serves a large block from its heap once a block of that size has been freed (its mmap
+// threshold grows), and the heap keeps freed pages: the arrays a stage frees would then count in every
+// later peak. A fixed threshold keeps large arrays in mappings of their own, returned when freed.
+void keep_large_blocks_mapped() {
+#if defined(__GLIBC__)
+  static const int set = mallopt(M_MMAP_THRESHOLD, 1 << 20);
+  (void)set;
+#endif
+}
+
+// Hands freed heap pages back to the system at the end of a stage. glibc keeps what many small blocks
+// freed (a band's scan, a solver's levels) in its arenas, where it counts in every later peak.
+void release_free_memory() {
+#if defined(__GLIBC__)
+  malloc_trim(0);
+#endif
+}
+
 }  // namespace
 
 std::filesystem::path output_path_for_level(const std::filesystem::path& output, double iso, bool several) {
@@ -312,6 +333,7 @@ TriangleMesh narrow_volume_mesh(const NarrowBand& band, std::span<const double> 
 
 PipelineResult run_pipeline(const PipelineConfig& given) {
   validate(given);
+  keep_large_blocks_mapped();
   const auto start = std::chrono::steady_clock::now();
   PipelineResult result;
   result.threads =
@@ -360,6 +382,7 @@ PipelineResult run_pipeline(const PipelineConfig& given) {
   // Optional so that shell mode can free it before meshing, the stage with the largest footprint.
   std::optional<NarrowBand> band_storage(build_band(*placed.surface, grid));
   const NarrowBand& band = *band_storage;
+  release_free_memory();
   result.seconds_band = seconds_since(t);
   result.peak_rss_after_band = peak_rss_bytes();
   result.band_voxels = band.size();
@@ -407,6 +430,7 @@ PipelineResult run_pipeline(const PipelineConfig& given) {
   // the stage with the largest footprint.
   solver.reset();
   energy.reset();
+  release_free_memory();
   result.seconds_solve = seconds_since(t);
   result.peak_rss_after_solve = peak_rss_bytes();
   if (!std::isfinite(result.run.final_ec))
@@ -417,8 +441,9 @@ PipelineResult run_pipeline(const PipelineConfig& given) {
   t = std::chrono::steady_clock::now();
   if (config.grade) grade_holes(*config.grade, grade_field, placed, band, phi, result);
   SideTest side;
-  std::optional<ShellSamples> shell;
-  if (config.mode == "shell") {
+  const bool shell_mode = config.mode == "shell";
+  std::optional<ShellSamples> shell;  // freed once the last level is meshed
+  if (shell_mode) {
     make_side_test(config, placed, grid.h(), side);
     shell = sample_printable_shell(config, placed, band, phi, side.side, result);
   } else {
@@ -437,13 +462,14 @@ PipelineResult run_pipeline(const PipelineConfig& given) {
     result.meshes.push_back(out);
   }
   std::vector<std::vector<WallProbe>> probes;
-  if (shell)
+  if (shell_mode)
     for (double iso : config.iso_levels)
       probes.push_back(wall_probes(placed, band, phi, iso, result.solid.wall_mm,
                                    parse_wall_offset(config.offset), side.side));
-  if (shell) {
+  if (shell_mode) {
     phi = {};
     band_storage.reset();  // `band` is not used below in shell mode
+    release_free_memory();
   }
   // The unperforated solid gives the reference Euler characteristic: each pore is one tunnel, so
   // pores = (chi0 - chi) / 2. Computed, not derived from the input's topology, because the band closes
@@ -452,22 +478,23 @@ PipelineResult run_pipeline(const PipelineConfig& given) {
   // chi = V - F/2 without a topology pass over a mesh that is not written.
   {
     const TriangleMesh unperforated =
-        shell ? unperforated_shell_mesh(*shell)
-              : narrow_volume_mesh(band, std::vector<double>(band.size(), -1.0), 0.0);
+        shell_mode ? unperforated_shell_mesh(*shell)
+                   : narrow_volume_mesh(band, std::vector<double>(band.size(), -1.0), 0.0);
     result.unperforated_euler = static_cast<std::int64_t>(unperforated.vertices.size()) -
                                 static_cast<std::int64_t>(unperforated.triangles.size()) / 2;
   }
   std::vector<TriangleMesh> meshes;
   for (std::size_t level = 0; level < config.iso_levels.size(); ++level) {
     MeshOutput& out = result.meshes[level];
-    meshes.push_back(shell ? shell_mesh(*shell, out.iso) : narrow_volume_mesh(band, phi, out.iso));
+    meshes.push_back(shell_mode ? shell_mesh(*shell, out.iso) : narrow_volume_mesh(band, phi, out.iso));
+    if (level + 1 == config.iso_levels.size()) shell.reset();  // the samples, before the checks
     for (Vec3& v : meshes.back().vertices) v = placed.to_mm(v);
     if (config.max_triangles > 0)
       out.reduction = decimate_mesh(meshes.back(), {config.max_triangles, config.max_deviation});
     out.topology = analyze_topology(meshes.back());
     out.pores_from_euler = (result.unperforated_euler - out.topology.euler_characteristic) / 2;
     check_printable(out.topology, out.iso);
-    if (shell) out.wall = measure_wall(meshes.back(), probes[level], 4.0 * result.solid.wall_mm);
+    if (shell_mode) out.wall = measure_wall(meshes.back(), probes[level], 4.0 * result.solid.wall_mm);
   }
   for (std::size_t i = 0; i < meshes.size(); ++i) write_mesh(result.meshes[i].path, meshes[i]);
   result.seconds_mesh = seconds_since(t);
