@@ -59,10 +59,10 @@ class FastSolver final : public TimeStepper {
   FastOptions options_;
   double s_ = 1.0, z1_ = 0.0, z2_ = 0.0;
   BandMultigrid multigrid_;
-  std::vector<double> extended_;        // band + ghosts scratch
-  std::vector<double> rhs_, y_;         // y = (z2 - L) phi^{n+1}
-  std::vector<double> mean_field_;      // empty: the model's phi_bar everywhere
-  std::vector<double> old_, previous_;  // phi^n and phi^{n-1}: the initial guess 2 phi^n - phi^{n-1}
+  std::vector<double> extended_;                          // band + ghosts scratch
+  std::vector<double> rhs_, y_;                           // y = (z2 - L) phi^{n+1}
+  std::vector<double> mean_field_;                        // empty: the model's phi_bar everywhere
+  std::vector<double> old_, previous_, second_previous_;  // phi^n, phi^{n-1}, phi^{n-2}: the guess
   int steps_ = 0, repeated_ = 0;
 };
 
