@@ -1,7 +1,6 @@
 #include "poreshell/shell.hpp"
 
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <cmath>
@@ -145,29 +144,43 @@ ShellSamples sample_shell(const Surface& surface, const NarrowBand& band, std::s
     std::vector<Sample>& samples = per_block[b];
     scan_block(surface, out.grid, origin, kTopBlock, reach,
                [&](const Coord& c) { return sample(c, samples); });
+    std::sort(samples.begin(), samples.end(), [&](const Sample& p, const Sample& q) {
+      return out.grid.key(p.point) < out.grid.key(q.point);
+    });
   });
-  // In key order, whatever the blocks: the isosurface then needs no sorted copy of its own (two
-  // extractions read these samples), and the order does not depend on the scan's blocking.
-  std::size_t total = 0;
-  for (const auto& block : per_block) total += block.size();
-  std::vector<Sample> all;
-  all.reserve(total);
-  for (auto& block : per_block) {
-    all.insert(all.end(), block.begin(), block.end());
-    block = {};
-  }
-  tbb::parallel_sort(all.begin(), all.end(), [&](const Sample& a, const Sample& b) {
-    return out.grid.key(a.point) < out.grid.key(b.point);
-  });
+  // Written in key order, so the isosurface needs no sorted copy of its own (two extractions read these
+  // samples). Key order within a layer of top blocks is plane by plane, row by row, and each row is
+  // the same row of the blocks along x in turn: a merge without a copy of all samples.
+  std::vector<std::size_t> layer_first(static_cast<std::size_t>(tops[2]) + 1, 0);
+  for (std::size_t b = 0; b < top_count; ++b)
+    layer_first[b / (std::size_t(tops[0]) * std::size_t(tops[1])) + 1] += per_block[b].size();
+  for (std::size_t l = 0; l < static_cast<std::size_t>(tops[2]); ++l) layer_first[l + 1] += layer_first[l];
+  const std::size_t total = layer_first.back();
   out.points.resize(total);
   out.wall.resize(total);
   out.pattern.resize(total);
-  tbb::parallel_for(std::size_t{0}, total, [&](std::size_t n) {
-    out.points[n] = all[n].point;
-    out.wall[n] = all[n].wall;
-    out.pattern[n] = all[n].pattern;
+  std::vector<std::int64_t> incomplete(static_cast<std::size_t>(tops[2]), 0);
+  tbb::parallel_for(std::size_t{0}, static_cast<std::size_t>(tops[2]), [&](std::size_t l) {
+    const std::size_t blocks_in_layer = std::size_t(tops[0]) * std::size_t(tops[1]);
+    std::vector<std::size_t> cursor(blocks_in_layer, 0);
+    std::size_t n = layer_first[l];
+    const int k_end = std::min(static_cast<int>(l + 1) * kTopBlock, dims[2]);
+    for (int k = static_cast<int>(l) * kTopBlock; k < k_end; ++k)
+      for (int j = 0; j < dims[1]; ++j)
+        for (std::size_t bi = 0; bi < std::size_t(tops[0]); ++bi) {
+          const std::size_t in_layer = bi + std::size_t(tops[0]) * std::size_t(j / kTopBlock);
+          const std::vector<Sample>& block = per_block[l * blocks_in_layer + in_layer];
+          for (std::size_t& c = cursor[in_layer];
+               c < block.size() && block[c].point.k == k && block[c].point.j == j; ++c, ++n) {
+            out.points[n] = block[c].point;
+            out.wall[n] = block[c].wall;
+            out.pattern[n] = block[c].pattern;
+            incomplete[l] += block[c].incomplete;
+          }
+        }
+    for (std::size_t b = 0; b < blocks_in_layer; ++b) per_block[l * blocks_in_layer + b] = {};
   });
-  for (const Sample& s : all) out.incomplete_stencils += s.incomplete;
+  for (std::int64_t count : incomplete) out.incomplete_stencils += count;
   return out;
 }
 
