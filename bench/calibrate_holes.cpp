@@ -59,7 +59,7 @@ int main(int argc, char** argv) {
   fmt::print("{} N={} band {} kappa {} phi_bar {} eps/h {} alpha {:.1f}\n", surface_name, resolution,
              band.size(), kappa, phi_bar, epsilon_per_h, model.alpha);
   for (std::uint64_t seed : seeds) {
-    FastSolver solver(band, *surface, model, dt_per_eps2 * eps * eps);
+    FastSolver solver(band, model, dt_per_eps2 * eps * eps);
     std::vector<double> phi = random_initial_condition(band, phi_bar, 0.5, seed);
     RunOptions options;
     options.min_spread = uniform_state_unstable(model.alpha, eps, phi_bar) ? 1.0 : 0.0;

@@ -27,9 +27,8 @@ struct PatternRun {
 
 // alpha as the paper would give it at N = 131 (1400 for the sphere), rescaled to this band's h.
 // solver: "fast" (the default of the pipeline) or "reference".
-inline PatternRun run_pattern(const NarrowBand& band, const Surface& surface, double paper_alpha,
-                              std::uint64_t seed, const char* label,
-                              const std::string& solver_name = "fast") {
+inline PatternRun run_pattern(const NarrowBand& band, double paper_alpha, std::uint64_t seed,
+                              const char* label, const std::string& solver_name = "fast") {
   const double eps = epsilon_m(4, band.grid().h());
   const double eps131 = epsilon_m(4, 1.0 / 130);
   const ModelParameters model{paper_alpha * (eps131 * eps131) / (eps * eps), eps, -0.3};
@@ -38,7 +37,7 @@ inline PatternRun run_pattern(const NarrowBand& band, const Surface& surface, do
   if (solver_name == "reference")
     solver = std::make_unique<ReferenceSolver>(band, model, dt);
   else
-    solver = std::make_unique<FastSolver>(band, surface, model, dt);
+    solver = std::make_unique<FastSolver>(band, model, dt);
   PatternRun r;
   r.phi = random_initial_condition(band, -0.3, 0.5, seed);
   RunOptions options;

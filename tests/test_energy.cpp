@@ -41,7 +41,7 @@ EnergyRun run(const std::string& solver_name, double dt_in_h, int steps) {
   if (solver_name == "reference")
     solver = std::make_unique<ReferenceSolver>(band, model, dt_in_h * grid.h());
   else
-    solver = std::make_unique<FastSolver>(band, *sphere, model, dt_in_h * grid.h());
+    solver = std::make_unique<FastSolver>(band, model, dt_in_h * grid.h());
   const EnergyFunctional energy(band, model);
   std::vector<double> phi = random_initial_condition(band, -0.3, 0.5, 7);
   EnergyRun out;

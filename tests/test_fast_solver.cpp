@@ -92,7 +92,7 @@ TEST(BandMultigrid, SolvesTheShiftedLaplacianLikeADirectSolver) {
     const double h2 = c.grid.h() * c.grid.h();
     for (double zh2 : {0.04, 1.0}) {
       const double z = zh2 / h2;
-      BandMultigrid mg(c.band, *c.surface, z);
+      BandMultigrid mg(c.band, z);
       EXPECT_GE(mg.level_count(), zh2 < 0.1 ? 3 : 1) << shape;
       std::vector<double> b = random_initial_condition(c.band, 0.0, 1.0, 5), x(c.band.size(), 0.0);
       for (double& v : b) v *= z;  // O(1) solution
@@ -119,7 +119,7 @@ TEST(BandMultigrid, CyclesDoNotGrowWithResolution) {
   for (int n : {49, 97, 129}) {
     const Case c("sphere", n);
     const double z = 0.04 / (c.grid.h() * c.grid.h());
-    BandMultigrid mg(c.band, *c.surface, z);
+    BandMultigrid mg(c.band, z);
     std::vector<double> b = random_initial_condition(c.band, 0.0, z, 9), x(c.band.size(), 0.0);
     const MultigridSolveReport report = mg.solve(z, b, x, 1e-8 * z, 60);
     ASSERT_TRUE(report.converged) << "N = " << n;
@@ -144,7 +144,7 @@ TEST(FastSolver, EndsInASteadyStateOfThePapersEquations) {
   options.tolerance = 1e-3;
   options.max_steps = 1500;
   for (std::uint64_t seed : {2, 3}) {
-    FastSolver fast(c.band, *c.surface, model, dt);
+    FastSolver fast(c.band, model, dt);
     std::vector<double> phi = random_initial_condition(c.band, -0.3, 0.5, seed);
     const RunResult run = run_to_steady_state(fast, phi, nullptr, options);
     ASSERT_TRUE(run.reached_tolerance);
@@ -174,7 +174,7 @@ TEST(FastSolver, SameResultForOneAndTwoThreads) {
   const ModelParameters model = paper_model(c.grid);
   auto advance = [&](int threads) {
     const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-    FastSolver fast(c.band, *c.surface, model, 100 * c.grid.h());
+    FastSolver fast(c.band, model, 100 * c.grid.h());
     std::vector<double> phi = random_initial_condition(c.band, -0.3, 0.5, 4);
     for (int s = 0; s < 20; ++s) fast.step(phi);
     return phi;
@@ -187,7 +187,7 @@ TEST(FastSolver, StabilisationCoversTheStepAndKeepsTheShiftsReal) {
   const Case c("sphere", 33);
   const ModelParameters model = paper_model(c.grid);
   for (double dt_in_h : {0.01, 0.1, 10.0, 1000.0}) {
-    FastSolver fast(c.band, *c.surface, model, dt_in_h * c.grid.h());
+    FastSolver fast(c.band, model, dt_in_h * c.grid.h());
     std::vector<double> phi = random_initial_condition(c.band, -0.3, 0.5, 6);
     for (int s = 0; s < 30; ++s) {
       const std::vector<double> old = phi;

@@ -95,9 +95,8 @@ double rim_distance(const Vec3& p) {
   return std::hypot(rho - kRadius, p.z() - kCenter.z());
 }
 
-PatternRun run_pattern(const NarrowBand& band, const Surface& surface, std::uint64_t seed,
-                       const char* label) {
-  return test_support::run_pattern(band, surface, 1400, seed, label);
+PatternRun run_pattern(const NarrowBand& band, std::uint64_t seed, const char* label) {
+  return test_support::run_pattern(band, 1400, seed, label);
 }
 
 double coefficient_of_variation(const std::vector<std::int64_t>& sizes) {
@@ -148,8 +147,8 @@ TEST(MeshPattern, IcosphereMatchesAnalyticSphere) {
   // so compare the seed means, not seed by seed.
   double count_sphere = 0.0, count_mesh = 0.0, cv_sphere = 0.0, cv_mesh = 0.0;
   for (std::uint64_t seed : {1, 2, 3}) {
-    const PatternRun s = run_pattern(sphere_band, sphere, seed, "sphere   ");
-    const PatternRun m = run_pattern(mesh_band, mesh, seed, "icosphere");
+    const PatternRun s = run_pattern(sphere_band, seed, "sphere   ");
+    const PatternRun m = run_pattern(mesh_band, seed, "icosphere");
     EXPECT_LT(s.spots.size_cv, 0.15);
     EXPECT_LT(m.spots.size_cv, 0.15);
     count_sphere += static_cast<double>(s.spots.count) / 3;
@@ -194,7 +193,7 @@ TEST(MeshPattern, OpenHemisphereGivesAPerforatedSheet) {
   EXPECT_GT(beyond_rim, 0);
   EXPECT_LT(farthest_beyond_rim, delta);
 
-  const PatternRun r = run_pattern(band, surface, 1, "hemisphere");
+  const PatternRun r = run_pattern(band, 1, "hemisphere");
 
   // Classify the spots at iso 0. A spot that reaches the band's end cap around the rim (voxels at or
   // below z = 0.5, whose closest point is on the rim) meets the sheet's boundary in one piece: a notch,

@@ -32,7 +32,7 @@ const NarrowBand& sphere_band() {
 }
 
 PatternRun run_pattern(double paper_alpha, std::uint64_t seed, const std::string& solver = "fast") {
-  return test_support::run_pattern(sphere_band(), sphere(), paper_alpha, seed, "sphere", solver);
+  return test_support::run_pattern(sphere_band(), paper_alpha, seed, "sphere", solver);
 }
 
 }  // namespace

@@ -49,11 +49,10 @@ TriangleMesh spherical_cap(double max_angle, int rings, int segments) {
 }
 
 // The paper's sphere parameters on this grid (alpha eps^2 kept), the fast solver with a mean field.
-std::vector<double> pattern_with_zones(const NarrowBand& band, const Surface& surface,
-                                       const std::vector<double>& weight) {
+std::vector<double> pattern_with_zones(const NarrowBand& band, const std::vector<double>& weight) {
   const double eps = epsilon_m(4, band.grid().h());
   const ModelParameters model{0.0764 / (eps * eps), eps, -0.3};
-  FastSolver solver(band, surface, model, 100 * band.grid().h());
+  FastSolver solver(band, model, 100 * band.grid().h());
   solver.set_mean_field(mean_concentration_field(weight, model.phi_bar));
   std::vector<double> phi = random_initial_condition(band, -0.3, 0.5, 1);
   for (std::size_t v = 0; v < phi.size(); ++v) phi[v] = (1 - weight[v]) * phi[v] - weight[v];
@@ -88,7 +87,7 @@ TEST(SolidZones, RimAlongAnOpenSheetHoldsNoPore) {
   const std::vector<Segment> boundary = boundary_segments(cap);
   const double h = band.grid().h(), rim = 4 * h;
   const std::vector<double> weight = solid_zone_weight(band, boundary, rim, {}, 2 * h);
-  const std::vector<double> phi = pattern_with_zones(band, surface, weight);
+  const std::vector<double> phi = pattern_with_zones(band, weight);
 
   double closest_pore = 1e9;
   for (std::size_t v = 0; v < phi.size(); ++v) {
@@ -110,7 +109,7 @@ TEST(SolidZones, KeepOutSpheresHoldNoPore) {
   const std::vector<KeepOutSphere> keep_out{{kCenter + Vec3(0, 0, kRadius), 0.12},
                                             {kCenter + Vec3(kRadius, 0, 0), 0.08}};
   const std::vector<double> weight = solid_zone_weight(band, {}, 0.0, keep_out, 2 * h);
-  const std::vector<double> phi = pattern_with_zones(band, surface, weight);
+  const std::vector<double> phi = pattern_with_zones(band, weight);
   std::int64_t pore_voxels_inside = 0;
   for (std::size_t v = 0; v < phi.size(); ++v) {
     const Vec3 x = band.grid().position(band.voxels()[v]);
@@ -130,7 +129,7 @@ TEST(SolidZones, KeepOutBoxHoldsNoPore) {
   // A slab across the sphere's equator, as a strap would need.
   const std::vector<KeepOutBox> boxes{{kCenter - Vec3(0.4, 0.4, 0.05), kCenter + Vec3(0.4, 0.4, 0.05)}};
   const std::vector<double> weight = solid_zone_weight(band, {}, 0.0, {}, 2 * h, boxes);
-  const std::vector<double> phi = pattern_with_zones(band, surface, weight);
+  const std::vector<double> phi = pattern_with_zones(band, weight);
   std::int64_t pore_voxels_inside = 0, voxels_inside = 0;
   for (std::size_t v = 0; v < phi.size(); ++v) {
     const Vec3 x = band.grid().position(band.voxels()[v]);

@@ -59,20 +59,20 @@ std::vector<ScannedVoxel> band_voxels(const NearField& near, const Surface& surf
     const double psi = near.psi(c);
     return std::isnan(psi) ? surface.distance(grid.position(c)) : psi;  // beyond reach: only by rounding
   };
-  std::vector<std::vector<ScannedVoxel>> per_layer(near.layer_count());
-  tbb::parallel_for(std::size_t{0}, near.layer_count(), [&](std::size_t l) {
-    near.for_each_near_point(l, [&](const Coord& c, double psi) {
+  std::vector<std::vector<ScannedVoxel>> per_row(near.row_count());
+  tbb::parallel_for(std::size_t{0}, near.row_count(), [&](std::size_t r) {
+    near.for_each_near_point(r, [&](const Coord& c, double psi) {
       if (std::abs(psi) >= delta * std::sqrt(3.0)) return;
       const Vec3 gradient((psi_at({c.i + 1, c.j, c.k}) - psi_at({c.i - 1, c.j, c.k})) * inv_2h,
                           (psi_at({c.i, c.j + 1, c.k}) - psi_at({c.i, c.j - 1, c.k})) * inv_2h,
                           (psi_at({c.i, c.j, c.k + 1}) - psi_at({c.i, c.j, c.k - 1})) * inv_2h);
-      if (in_band({psi, gradient}, delta)) per_layer[l].push_back({grid.key(c), psi});
+      if (in_band({psi, gradient}, delta)) per_row[r].push_back({grid.key(c), psi});
     });
   });
   std::vector<ScannedVoxel> found;
-  for (auto& layer : per_layer) {
-    found.insert(found.end(), layer.begin(), layer.end());
-    layer = {};
+  for (auto& row : per_row) {
+    found.insert(found.end(), row.begin(), row.end());
+    row = {};
   }
   std::sort(found.begin(), found.end(),
             [](const ScannedVoxel& a, const ScannedVoxel& b) { return a.key < b.key; });

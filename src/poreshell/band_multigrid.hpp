@@ -3,7 +3,9 @@
 //   (z - Delta_h) x = b,  z > 0,  ghosts of x by closest-point interpolation (eliminated),
 // the building block of the fast solver (docs/solver.md).
 //
-// Coarse levels are the bands of the same surface on grids of spacing 2h, 4h, ... A band value stands
+// Coarse levels are bands of the surface on grids of spacing 2h, 4h, ..., the surface known by the
+// finer level's closest points (no search of the input surface: the hierarchy needs only the fine
+// band). A band value stands
 // for the value at its closest point on the surface, so values move between levels through closest
 // points: restriction interpolates the finer residual at the coarse voxel's closest point, prolongation
 // the coarse correction at the finer voxel's closest point (closest-point multigrid). The smoother is
@@ -16,7 +18,6 @@
 #include <vector>
 
 #include "poreshell/band.hpp"
-#include "poreshell/surface.hpp"
 
 namespace poreshell {
 
@@ -73,7 +74,7 @@ class BandMultigrid {
  public:
   // Builds coarse bands until a level's z_min h^2 >= 2 (Jacobi alone converges fast there) or the band
   // gets small. z_min: the smallest shift the caller will solve with.
-  BandMultigrid(const NarrowBand& fine, const Surface& surface, double z_min);
+  BandMultigrid(const NarrowBand& fine, double z_min);
 
   // Iterates V-cycles on x (initial guess in, solution out; band values only) until
   // |b - (z - L) x|_inf <= residual_tolerance or max_cycles.

@@ -17,76 +17,74 @@ NearField::NearField(const Surface& surface, const Grid& grid, double reach)
                           static_cast<std::size_t>(blocks_per_axis_[1]) *
                           static_cast<std::size_t>(blocks_per_axis_[2]),
                       -1);
-  layers_.resize(static_cast<std::size_t>(blocks_per_axis_[2]));
+  rows_.resize(static_cast<std::size_t>(blocks_per_axis_[1]) * static_cast<std::size_t>(blocks_per_axis_[2]));
   const double h = grid.h();
   constexpr int kHalf = kBlock / 2;
   const double half_diagonal = 0.5 * std::sqrt(3.0) * (kBlock - 1) * h;
   const double half_sub_diagonal = 0.5 * std::sqrt(3.0) * (kHalf - 1) * h;
-  std::vector<std::int64_t> scanned(layers_.size(), 0);
-  tbb::parallel_for(std::size_t{0}, layers_.size(), [&](std::size_t l) {
-    Layer& layer = layers_[l];
+  std::vector<std::int64_t> scanned(rows_.size(), 0);
+  tbb::parallel_for(std::size_t{0}, rows_.size(), [&](std::size_t r) {
+    Row& row = rows_[r];
+    const auto bj = static_cast<int>(r % static_cast<std::size_t>(blocks_per_axis_[1]));
+    const auto bk = static_cast<int>(r / static_cast<std::size_t>(blocks_per_axis_[1]));
     std::array<double, kSlots> psi;
     std::array<Vec3, kSlots> closest;
-    for (int bj = 0; bj < blocks_per_axis_[1]; ++bj)
-      for (int bi = 0; bi < blocks_per_axis_[0]; ++bi) {
-        const Coord origin{bi * kBlock, bj * kBlock, static_cast<int>(l) * kBlock};
-        // psi is 1-Lipschitz: one query at a block's centre can rule out the whole block, and then
-        // each of its eighths (a block that the surface only grazes is mostly beyond reach).
-        const Vec3 center = grid.position(origin) + Vec3::Constant(0.5 * (kBlock - 1) * h);
-        if (std::abs(surface.distance(center)) > half_diagonal + reach) continue;
-        ++scanned[l];
-        BlockEntry entry;
-        entry.origin = origin;
-        psi.fill(std::numeric_limits<double>::quiet_NaN());
-        for (int sub = 0; sub < 8; ++sub) {
-          const Coord so{origin.i + (sub & 1) * kHalf, origin.j + ((sub >> 1) & 1) * kHalf,
-                         origin.k + (sub >> 2) * kHalf};
-          if (so.i >= d[0] || so.j >= d[1] || so.k >= d[2]) continue;
-          const Vec3 sub_center = grid.position(so) + Vec3::Constant(0.5 * (kHalf - 1) * h);
-          if (std::abs(surface.distance(sub_center)) > half_sub_diagonal + reach) continue;
-          for (int k = so.k; k < std::min(so.k + kHalf, d[2]); ++k)
-            for (int j = so.j; j < std::min(so.j + kHalf, d[1]); ++j)
-              for (int i = so.i; i < std::min(so.i + kHalf, d[0]); ++i) {
-                const Vec3 x = grid.position({i, j, k});
-                SurfaceQuery q;
-                if (exact_)
-                  q = surface.distance_and_closest_point(x);
-                else
-                  q.distance = surface.distance(x);
-                const double far = std::abs(q.distance) - reach;
-                if (!(far < 0.0)) {  // and the next points of the row that are as surely beyond reach
-                  if (std::isfinite(far)) i += static_cast<int>(std::floor(far / h));
-                  continue;
-                }
-                const auto slot = static_cast<std::size_t>(
-                    (i - origin.i) + kBlock * ((j - origin.j) + kBlock * (k - origin.k)));
-                psi[slot] = q.distance;
-                closest[slot] = q.closest_point.value_or(x);
-                entry.mask[slot / 64] |= std::uint64_t{1} << (slot % 64);
+    for (int bi = 0; bi < blocks_per_axis_[0]; ++bi) {
+      const Coord origin{bi * kBlock, bj * kBlock, bk * kBlock};
+      // psi is 1-Lipschitz: one query at a block's centre can rule out the whole block, and then
+      // each of its eighths (a block that the surface only grazes is mostly beyond reach).
+      const Vec3 center = grid.position(origin) + Vec3::Constant(0.5 * (kBlock - 1) * h);
+      if (std::abs(surface.distance(center)) > half_diagonal + reach) continue;
+      ++scanned[r];
+      BlockEntry entry;
+      entry.origin = origin;
+      psi.fill(std::numeric_limits<double>::quiet_NaN());
+      for (int sub = 0; sub < 8; ++sub) {
+        const Coord so{origin.i + (sub & 1) * kHalf, origin.j + ((sub >> 1) & 1) * kHalf,
+                       origin.k + (sub >> 2) * kHalf};
+        if (so.i >= d[0] || so.j >= d[1] || so.k >= d[2]) continue;
+        const Vec3 sub_center = grid.position(so) + Vec3::Constant(0.5 * (kHalf - 1) * h);
+        if (std::abs(surface.distance(sub_center)) > half_sub_diagonal + reach) continue;
+        for (int k = so.k; k < std::min(so.k + kHalf, d[2]); ++k)
+          for (int j = so.j; j < std::min(so.j + kHalf, d[1]); ++j)
+            for (int i = so.i; i < std::min(so.i + kHalf, d[0]); ++i) {
+              const Vec3 x = grid.position({i, j, k});
+              SurfaceQuery q;
+              if (exact_)
+                q = surface.distance_and_closest_point(x);
+              else
+                q.distance = surface.distance(x);
+              const double far = std::abs(q.distance) - reach;
+              if (!(far < 0.0)) {  // and the next points of the row that are as surely beyond reach
+                if (std::isfinite(far)) i += static_cast<int>(std::floor(far / h));
+                continue;
               }
-        }
-        if (std::all_of(entry.mask.begin(), entry.mask.end(), [](std::uint64_t m) { return m == 0; }))
-          continue;
-        entry.first = static_cast<std::uint32_t>(layer.psi.size());
-        for (std::size_t slot = 0; slot < kSlots; ++slot) {
-          if (std::isnan(psi[slot])) continue;
-          layer.psi.push_back(psi[slot]);
-          if (exact_) layer.closest.push_back(closest[slot]);
-        }
-        block_entry_[static_cast<std::size_t>(bi) +
-                     static_cast<std::size_t>(blocks_per_axis_[0]) *
-                         (static_cast<std::size_t>(bj) + static_cast<std::size_t>(blocks_per_axis_[1]) * l)] =
-            static_cast<std::int32_t>(layer.blocks.size());
-        layer.blocks.push_back(entry);
+              const auto slot = static_cast<std::size_t>((i - origin.i) +
+                                                         kBlock * ((j - origin.j) + kBlock * (k - origin.k)));
+              psi[slot] = q.distance;
+              closest[slot] = q.closest_point.value_or(x);
+              entry.mask[slot / 64] |= std::uint64_t{1} << (slot % 64);
+            }
       }
-    layer.blocks.shrink_to_fit();
-    layer.psi.shrink_to_fit();
-    layer.closest.shrink_to_fit();
+      if (std::all_of(entry.mask.begin(), entry.mask.end(), [](std::uint64_t m) { return m == 0; })) continue;
+      entry.first = static_cast<std::uint32_t>(row.psi.size());
+      for (std::size_t slot = 0; slot < kSlots; ++slot) {
+        if (std::isnan(psi[slot])) continue;
+        row.psi.push_back(psi[slot]);
+        if (exact_) row.closest.push_back(closest[slot]);
+      }
+      block_entry_[static_cast<std::size_t>(bi) + static_cast<std::size_t>(blocks_per_axis_[0]) * r] =
+          static_cast<std::int32_t>(row.blocks.size());
+      row.blocks.push_back(entry);
+    }
+    row.blocks.shrink_to_fit();
+    row.psi.shrink_to_fit();
+    row.closest.shrink_to_fit();
   });
   for (std::int64_t s : scanned) blocks_scanned_ += s;
 }
 
-bool NearField::locate(const Coord& c, const Layer*& layer, std::size_t& point) const {
+bool NearField::locate(const Coord& c, const Row*& row, std::size_t& point) const {
   if (!grid_.contains(c)) return false;
   const int bi = c.i / kBlock, bj = c.j / kBlock, bk = c.k / kBlock;
   const std::int32_t e =
@@ -95,8 +93,9 @@ bool NearField::locate(const Coord& c, const Layer*& layer, std::size_t& point) 
                        (static_cast<std::size_t>(bj) +
                         static_cast<std::size_t>(blocks_per_axis_[1]) * static_cast<std::size_t>(bk))];
   if (e < 0) return false;
-  layer = &layers_[static_cast<std::size_t>(bk)];
-  const BlockEntry& block = layer->blocks[static_cast<std::size_t>(e)];
+  row = &rows_[static_cast<std::size_t>(bj) +
+               static_cast<std::size_t>(blocks_per_axis_[1]) * static_cast<std::size_t>(bk)];
+  const BlockEntry& block = row->blocks[static_cast<std::size_t>(e)];
   const auto slot = static_cast<std::size_t>(
       (c.i - block.origin.i) + kBlock * ((c.j - block.origin.j) + kBlock * (c.k - block.origin.k)));
   const std::uint64_t word = block.mask[slot / 64];
@@ -109,16 +108,16 @@ bool NearField::locate(const Coord& c, const Layer*& layer, std::size_t& point) 
 }
 
 double NearField::psi(const Coord& c) const {
-  const Layer* layer = nullptr;
+  const Row* row = nullptr;
   std::size_t point = 0;
-  return locate(c, layer, point) ? layer->psi[point] : std::numeric_limits<double>::quiet_NaN();
+  return locate(c, row, point) ? row->psi[point] : std::numeric_limits<double>::quiet_NaN();
 }
 
 Vec3 NearField::closest_point(const Coord& c) const {
-  const Layer* layer = nullptr;
+  const Row* row = nullptr;
   std::size_t point = 0;
-  if (!exact_ || !locate(c, layer, point)) return Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
-  return layer->closest[point];
+  if (!exact_ || !locate(c, row, point)) return Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
+  return row->closest[point];
 }
 
 }  // namespace poreshell

@@ -6,8 +6,8 @@
 // surface again (before, a mesh's tree was searched about 6.5 times per band voxel).
 //
 // Storage: the points within reach of each 8^3 block of the grid, found through a bit mask per block,
-// in one array per layer of blocks (a few large allocations, which go back to the system when the
-// band is built; many small ones did not). Memory grows with the surface area times the reach.
+// in one array per row of blocks along x (one allocation per block made the allocator keep megabytes
+// after the band was built). Memory grows with the surface area times the reach.
 
 #include <array>
 #include <cstdint>
@@ -30,11 +30,11 @@ class NearField {
   bool has_closest_points() const { return exact_; }
   Vec3 closest_point(const Coord& c) const;
 
-  // Calls f(c, psi) for the points within reach in layer l of blocks (0 <= l < layer_count()), block
-  // by block; layers may run in parallel.
+  // Calls f(c, psi) for the points within reach in row r of blocks (0 <= r < row_count()), block by
+  // block; rows may run in parallel.
   template <class F>
-  void for_each_near_point(std::size_t l, const F& f) const;
-  std::size_t layer_count() const { return layers_.size(); }
+  void for_each_near_point(std::size_t r, const F& f) const;
+  std::size_t row_count() const { return rows_.size(); }
   std::int64_t blocks_scanned() const { return blocks_scanned_; }
 
  private:
@@ -42,34 +42,34 @@ class NearField {
   struct BlockEntry {
     Coord origin;
     std::array<std::uint64_t, kSlots / 64> mask{};  // slots within reach
-    std::uint32_t first = 0;                        // its first point in the layer's arrays
+    std::uint32_t first = 0;                        // its first point in the row's arrays
   };
-  struct Layer {
+  struct Row {
     std::vector<BlockEntry> blocks;
     std::vector<double> psi;    // by block, then slot
     std::vector<Vec3> closest;  // where exact_ (double: the ghosts' stencils use them)
   };
-  // The layer and point index of c, or false if c is not within reach.
-  bool locate(const Coord& c, const Layer*& layer, std::size_t& point) const;
+  // The row and point index of c, or false if c is not within reach.
+  bool locate(const Coord& c, const Row*& row, std::size_t& point) const;
 
   Grid grid_;
   bool exact_ = false;
   std::array<int, 3> blocks_per_axis_{};
-  std::vector<std::int32_t> block_entry_;  // per block of the grid: index in its layer's blocks, or -1
-  std::vector<Layer> layers_;
+  std::vector<std::int32_t> block_entry_;  // per block of the grid: index in its row's blocks, or -1
+  std::vector<Row> rows_;                  // row bj + (blocks along y) * bk
   std::int64_t blocks_scanned_ = 0;
 };
 
 template <class F>
-void NearField::for_each_near_point(std::size_t l, const F& f) const {
-  const Layer& layer = layers_[l];
-  for (const BlockEntry& block : layer.blocks) {
+void NearField::for_each_near_point(std::size_t r, const F& f) const {
+  const Row& row = rows_[r];
+  for (const BlockEntry& block : row.blocks) {
     std::size_t point = block.first;
     for (int s = 0; s < kSlots; ++s)
       if ((block.mask[static_cast<std::size_t>(s / 64)] >> (s % 64)) & 1)
         f(Coord{block.origin.i + s % kBlock, block.origin.j + (s / kBlock) % kBlock,
                 block.origin.k + s / (kBlock * kBlock)},
-          layer.psi[point++]);
+          row.psi[point++]);
   }
 }
 

@@ -44,14 +44,13 @@ double max_square(std::span<const double> phi) {
 
 }  // namespace
 
-FastSolver::FastSolver(const NarrowBand& band, const Surface& surface, const ModelParameters& model,
-                       double dt, FastOptions options)
+FastSolver::FastSolver(const NarrowBand& band, const ModelParameters& model, double dt, FastOptions options)
     : band_(band),
       model_(model),
       dt_(dt),
       options_(options),
       multigrid_(
-          (validate(model, dt), band), surface,
+          (validate(model, dt), band),
           shifts_for(model, dt, std::max(kLargestStabilisation, smallest_real_stabilisation(model, dt))).z1) {
   if (!(options_.tolerance > 0.0)) throw InputError("the fast solver's tolerance must be positive");
   if (!(options_.min_stabilisation >= 0.0)) throw InputError("the stabilisation floor must be >= 0");

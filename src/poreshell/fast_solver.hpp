@@ -32,8 +32,7 @@ struct FastOptions {
 
 class FastSolver final : public TimeStepper {
  public:
-  FastSolver(const NarrowBand& band, const Surface& surface, const ModelParameters& model, double dt,
-             FastOptions options = {});
+  FastSolver(const NarrowBand& band, const ModelParameters& model, double dt, FastOptions options = {});
 
   StepReport step(std::vector<double>& phi) override;
   std::string name() const override { return "fast"; }

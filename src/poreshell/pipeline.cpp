@@ -402,7 +402,7 @@ PipelineResult run_pipeline(const PipelineConfig& given) {
     solver = std::make_unique<ReferenceSolver>(band, result.model, result.dt, config.inner);
     result.inner_iteration = to_string(config.inner.method);
   } else {
-    auto fast = std::make_unique<FastSolver>(band, *placed.surface, result.model, result.dt, config.fast);
+    auto fast = std::make_unique<FastSolver>(band, result.model, result.dt, config.fast);
     if (!mean_field.empty()) fast->set_mean_field(mean_field);
     result.solver_bytes = fast->memory_bytes();
     solver = std::move(fast);
