@@ -100,6 +100,7 @@ TEST(Isosurface, EachPoreThroughTheShellLowersEulerByTwo) {
       expect_valid(t);
       EXPECT_EQ(t.components, 1);
       EXPECT_EQ(t.euler_characteristic, 4 - 2 * pores) << "iso " << iso;
+      EXPECT_EQ(isosurface_euler_characteristic(f.view(), iso), 4 - 2 * pores) << "iso " << iso;
     }
   }
 }
@@ -115,6 +116,7 @@ TEST(Isosurface, TorusShellIsTwoTori) {
   expect_valid(t);
   EXPECT_EQ(t.components, 2);
   EXPECT_EQ(t.euler_characteristic, 0);
+  EXPECT_EQ(isosurface_euler_characteristic(f.view(), 0.0), 0);
 }
 
 // Euler characteristic of the solid {value < iso}, computed independently of the mesh: the
@@ -162,6 +164,7 @@ TEST(Isosurface, RandomFieldsGiveClosedManifoldsWithTheRightEuler) {
       const MeshTopology t = analyze_topology(extract_isosurface(f.view(), iso));
       expect_valid(t);
       EXPECT_EQ(t.euler_characteristic, solid_euler(f, iso, n));
+      EXPECT_EQ(isosurface_euler_characteristic(f.view(), iso), t.euler_characteristic);
     }
   }
 }

@@ -322,13 +322,28 @@ std::filesystem::path output_path_for_level(const std::filesystem::path& output,
   return output.parent_path() / name.str();
 }
 
-TriangleMesh narrow_volume_mesh(const NarrowBand& band, std::span<const double> phi, double iso) {
+namespace {
+
+// The band's values and its ghosts (outside: 1) as a field on the band's grid.
+template <class Use>
+auto with_narrow_volume_field(const NarrowBand& band, std::span<const double> phi, const Use& use) {
   std::vector<Coord> points(band.voxels().begin(), band.voxels().end());
   points.insert(points.end(), band.ghosts().begin(), band.ghosts().end());
   std::vector<double> values(phi.begin(), phi.end());
   values.resize(points.size(), 1.0);
-  const SparseField field{&band.grid(), points, values, 1.0};
-  return extract_isosurface(field, iso);
+  return use(SparseField{&band.grid(), points, values, 1.0});
+}
+
+}  // namespace
+
+TriangleMesh narrow_volume_mesh(const NarrowBand& band, std::span<const double> phi, double iso) {
+  return with_narrow_volume_field(band, phi,
+                                  [&](const SparseField& f) { return extract_isosurface(f, iso); });
+}
+
+std::int64_t narrow_volume_euler(const NarrowBand& band, std::span<const double> phi, double iso) {
+  return with_narrow_volume_field(
+      band, phi, [&](const SparseField& f) { return isosurface_euler_characteristic(f, iso); });
 }
 
 PipelineResult run_pipeline(const PipelineConfig& given) {
@@ -473,15 +488,13 @@ PipelineResult run_pipeline(const PipelineConfig& given) {
   }
   // The unperforated solid gives the reference Euler characteristic: each pore is one tunnel, so
   // pores = (chi0 - chi) / 2. Computed, not derived from the input's topology, because the band closes
-  // holes narrower than about 2 delta (a scan's small holes) and may merge close sheets.
-  // The extractor's meshes are closed 2-manifolds (every edge in two triangles: E = 3F/2, tested), so
-  // chi = V - F/2 without a topology pass over a mesh that is not written.
-  {
-    const TriangleMesh unperforated =
-        shell_mode ? unperforated_shell_mesh(*shell)
-                   : narrow_volume_mesh(band, std::vector<double>(band.size(), -1.0), 0.0);
-    result.unperforated_euler = static_cast<std::int64_t>(unperforated.vertices.size()) -
-                                static_cast<std::int64_t>(unperforated.triangles.size()) / 2;
+  // holes narrower than about 2 delta (a scan's small holes) and may merge close sheets; counted from the
+  // samples (isosurface_euler_characteristic), not from a mesh that is not written.
+  if (shell_mode) {
+    result.unperforated_euler = unperforated_shell_euler(*shell);
+  } else {
+    const std::vector<double> solid(band.size(), -1.0);
+    result.unperforated_euler = narrow_volume_euler(band, solid, 0.0);
   }
   std::vector<TriangleMesh> meshes;
   for (std::size_t level = 0; level < config.iso_levels.size(); ++level) {

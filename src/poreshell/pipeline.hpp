@@ -132,6 +132,8 @@ std::filesystem::path output_path_for_level(const std::filesystem::path& output,
 // The narrow volume of Fig. 3(b): phi on the band, 1 on the ghosts and everywhere else; the solid is
 // {phi < iso}. Returns its isosurface.
 TriangleMesh narrow_volume_mesh(const NarrowBand& band, std::span<const double> phi, double iso);
+// Its Euler characteristic, without making it.
+std::int64_t narrow_volume_euler(const NarrowBand& band, std::span<const double> phi, double iso);
 
 PipelineResult run_pipeline(const PipelineConfig& config);
 

@@ -198,4 +198,9 @@ TriangleMesh unperforated_shell_mesh(const ShellSamples& samples) {
   return extract_isosurface(field, 0.0);
 }
 
+std::int64_t unperforated_shell_euler(const ShellSamples& samples) {
+  const SparseField field{&samples.grid, samples.points, samples.wall, samples.grid.h()};
+  return isosurface_euler_characteristic(field, 0.0);
+}
+
 }  // namespace poreshell

@@ -64,6 +64,8 @@ TriangleMesh shell_mesh(const ShellSamples& samples, double iso);
 
 // The wall without pores: the reference for counting pores by the Euler characteristic.
 TriangleMesh unperforated_shell_mesh(const ShellSamples& samples);
+// Its Euler characteristic, without making it.
+std::int64_t unperforated_shell_euler(const ShellSamples& samples);
 
 // phi at an arbitrary point of the band's grid by trilinear interpolation of band values (the same rule
 // as the ghosts' stencils). Corners outside the band are left out and the weights renormalised;
