@@ -35,8 +35,8 @@ void for_each_index(std::size_t n, const Body& body) {
 }
 
 // A finer level's closest points as the surface a coarse level is built on: distance and closest point
-// by the nearest of them (a point tree), not by the surface's own search. The points lie on the
-// surface about h apart, so the next level (spacing 2h) sees the surface within about h / 2: enough
+// by the nearest of them (a point tree), not by the surface's own search. The points (surface_samples)
+// lie on the surface about h apart, so the next level (spacing 2h) sees the surface within about h / 2: enough
 // for a preconditioner's coarse levels, and far cheaper than exact searches from points up to 9 h off a
 // scan's many small triangles (those took 0.4 s of the bunny's 0.5 s of set-up at N = 131).
 class SampledSurface final : public Surface {
@@ -64,6 +64,17 @@ class SampledSurface final : public Surface {
   PointTree tree_;
   Box bounds_;
 };
+
+// The closest points of the voxels within sqrt(3)/2 h of the surface: every cell the surface crosses has
+// such a corner, so they cover the surface about h apart, with a third of the band's points (the
+// others repeat them along the normals) and a third of the tree's memory.
+std::vector<Vec3> surface_samples(const NarrowBand& band, std::span<const Vec3> cps) {
+  const double near = 0.5 * std::sqrt(3.0) * band.grid().h();
+  std::vector<Vec3> samples;
+  for (std::size_t v = 0; v < band.size(); ++v)
+    if (std::abs(band.distance()[v]) <= near) samples.push_back(cps[v]);
+  return samples;
+}
 
 // The grid of spacing h that holds the surface's band with kPadCells of margin.
 Grid covering_grid(const Surface& surface, double h) {
@@ -123,7 +134,7 @@ BandMultigrid::BandMultigrid(const NarrowBand& fine, double z_min) {
     const NarrowBand& finer = *levels_.back().band;
     const double h = finer.grid().h();
     if (z_min * h * h >= kCoarseEnough || finer.size() < kSmallestBand) break;
-    const SampledSurface sampled(finer_cps);
+    const SampledSurface sampled(surface_samples(finer, finer_cps));
     auto coarse = std::make_unique<NarrowBand>(build_band(sampled, covering_grid(sampled, 2.0 * h)));
     std::vector<Vec3> cps = coarse->closest_points();
     Level level;
