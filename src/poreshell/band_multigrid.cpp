@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "poreshell/error.hpp"
+#include "poreshell/heap.hpp"
 #include "poreshell/parallel.hpp"
 #include "poreshell/point_cloud.hpp"
 
@@ -36,9 +37,9 @@ void for_each_index(std::size_t n, const Body& body) {
 
 // A finer level's closest points as the surface a coarse level is built on: distance and closest point
 // by the nearest of them (a point tree), not by the surface's own search. The points (surface_samples)
-// lie on the surface about h apart, so the next level (spacing 2h) sees the surface within about h / 2: enough
-// for a preconditioner's coarse levels, and far cheaper than exact searches from points up to 9 h off a
-// scan's many small triangles (those took 0.4 s of the bunny's 0.5 s of set-up at N = 131).
+// lie on the surface about h apart, so the next level (spacing 2h) sees the surface within about h / 2:
+// enough for a preconditioner's coarse levels, and far cheaper than exact searches from points up to 9 h off
+// a scan's many small triangles (those took 0.4 s of the bunny's 0.5 s of set-up at N = 131).
 class SampledSurface final : public Surface {
  public:
   explicit SampledSurface(const std::vector<Vec3>& samples)
@@ -144,6 +145,7 @@ BandMultigrid::BandMultigrid(const NarrowBand& fine, double z_min) {
     level.band = level.owned.get();
     levels_.push_back(std::move(level));
     finer_cps = std::move(cps);
+    release_free_memory();  // the coarse band's scan, in many small blocks
   }
 
   for (Level& level : levels_) {

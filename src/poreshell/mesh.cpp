@@ -78,14 +78,15 @@ std::int64_t count_nonmanifold_vertices(const TriangleMesh& mesh, const std::vec
       for (std::int32_t v : t) ++start[v + 1];
   std::partial_sum(start.begin(), start.end(), start.begin());
   std::vector<std::uint32_t> incident(static_cast<std::size_t>(start[nv]));
-  {
-    std::vector<std::int64_t> fill(start.begin(), start.end() - 1);
-    for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
-      const auto& t = mesh.triangles[f];
-      if (has_repeated_index(t)) continue;
-      for (std::int32_t v : t) incident[fill[v]++] = static_cast<std::uint32_t>(f);
-    }
+  // Filled with start[v] as v's cursor (it ends at v's end, the next vertex's start), then shifted
+  // back: no second table of offsets.
+  for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
+    const auto& t = mesh.triangles[f];
+    if (has_repeated_index(t)) continue;
+    for (std::int32_t v : t) incident[static_cast<std::size_t>(start[v]++)] = static_cast<std::uint32_t>(f);
   }
+  for (std::size_t v = nv; v > 0; --v) start[v] = start[v - 1];
+  start[0] = 0;
   return tbb::parallel_reduce(
       tbb::blocked_range<std::size_t>(0, nv), std::int64_t{0},
       [&](const tbb::blocked_range<std::size_t>& r, std::int64_t count) {
@@ -156,39 +157,41 @@ MeshTopology analyze_topology(const TriangleMesh& mesh, std::size_t edge_table_b
   const std::size_t passes =
       std::max<std::size_t>(1, records * sizeof(EdgeRecord) / std::max<std::size_t>(1, edge_table_bytes) + 1);
   const std::size_t per_pass = nv / passes + 1;
-  DisjointSets components(nf);
-  std::vector<EdgeRecord> edges;
-  edges.reserve(std::min(records, 2 * records / passes + 64));
-  for (std::size_t pass = 0; pass < passes; ++pass) {
-    const std::size_t first = pass * per_pass, last = first + per_pass;
-    edges.clear();
-    for (std::size_t f = 0; f < nf; ++f) {
-      const auto& t = mesh.triangles[f];
-      if (has_repeated_index(t)) continue;
-      for (int c = 0; c < 3; ++c) {
-        const std::int32_t a = t[c], b = t[(c + 1) % 3];
-        const auto low = static_cast<std::size_t>(std::min(a, b));
-        if (low >= first && low < last)
-          edges.push_back({edge_key(a, b) << 1 | std::uint64_t{a < b}, static_cast<std::uint32_t>(f)});
+  {  // the sets are freed before the vertex pass below
+    DisjointSets components(nf);
+    std::vector<EdgeRecord> edges;
+    edges.reserve(std::min(records, 2 * records / passes + 64));
+    for (std::size_t pass = 0; pass < passes; ++pass) {
+      const std::size_t first = pass * per_pass, last = first + per_pass;
+      edges.clear();
+      for (std::size_t f = 0; f < nf; ++f) {
+        const auto& t = mesh.triangles[f];
+        if (has_repeated_index(t)) continue;
+        for (int c = 0; c < 3; ++c) {
+          const std::int32_t a = t[c], b = t[(c + 1) % 3];
+          const auto low = static_cast<std::size_t>(std::min(a, b));
+          if (low >= first && low < last)
+            edges.push_back({edge_key(a, b) << 1 | std::uint64_t{a < b}, static_cast<std::uint32_t>(f)});
+        }
+      }
+      // By edge, then direction: the counts below do not depend on the order within a group.
+      tbb::parallel_sort(edges.begin(), edges.end(),
+                         [](const EdgeRecord& x, const EdgeRecord& y) { return x.key < y.key; });
+      for (std::size_t i = 0; i < edges.size();) {
+        std::size_t j = i + 1;
+        while (j < edges.size() && edges[j].edge() == edges[i].edge()) ++j;
+        const std::size_t n = j - i;
+        ++topo.edges;
+        if (n == 1) ++topo.boundary_edges;
+        if (n > 2) ++topo.nonmanifold_edges;
+        if (n == 2 && edges[i].forward() == edges[i + 1].forward()) ++topo.misoriented_edges;
+        for (std::size_t k = i + 1; k < j; ++k) components.unite(edges[i].tri, edges[k].tri);
+        i = j;
       }
     }
-    // By edge, then direction: the counts below do not depend on the order within a group.
-    tbb::parallel_sort(edges.begin(), edges.end(),
-                       [](const EdgeRecord& x, const EdgeRecord& y) { return x.key < y.key; });
-    for (std::size_t i = 0; i < edges.size();) {
-      std::size_t j = i + 1;
-      while (j < edges.size() && edges[j].edge() == edges[i].edge()) ++j;
-      const std::size_t n = j - i;
-      ++topo.edges;
-      if (n == 1) ++topo.boundary_edges;
-      if (n > 2) ++topo.nonmanifold_edges;
-      if (n == 2 && edges[i].forward() == edges[i + 1].forward()) ++topo.misoriented_edges;
-      for (std::size_t k = i + 1; k < j; ++k) components.unite(edges[i].tri, edges[k].tri);
-      i = j;
-    }
+    for (std::size_t f = 0; f < nf; ++f)
+      if (components.find(f) == f) ++topo.components;
   }
-  for (std::size_t f = 0; f < nf; ++f)
-    if (components.find(f) == f) ++topo.components;
 
   topo.nonmanifold_vertices = count_nonmanifold_vertices(mesh, used);
   topo.euler_characteristic = topo.vertices - topo.edges + topo.triangles;

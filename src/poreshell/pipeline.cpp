@@ -3,9 +3,6 @@
 #include <tbb/global_control.h>
 
 #include <sys/resource.h>
-#if defined(__GLIBC__)
-#include <malloc.h>
-#endif
 #include <unistd.h>
 
 #include <algorithm>
@@ -20,6 +17,7 @@
 
 #include "poreshell/error.hpp"
 #include "poreshell/file_format.hpp"
+#include "poreshell/heap.hpp"
 #include "poreshell/initial_condition.hpp"
 #include "poreshell/isosurface.hpp"
 #include "poreshell/mesh_io.hpp"
@@ -293,24 +291,6 @@ void check_printable(const MeshTopology& t, double iso) {
   if (!failed.empty())
     throw std::runtime_error(at + " failed the printability check (" + failed +
                              "); nothing was written. Please report this as a bug");
-}
-
-// glibc serves a large block from its heap once a block of that size has been freed (its mmap
-// threshold grows), and the heap keeps freed pages: the arrays a stage frees would then count in every
-// later peak. A fixed threshold keeps large arrays in mappings of their own, returned when freed.
-void keep_large_blocks_mapped() {
-#if defined(__GLIBC__)
-  static const int set = mallopt(M_MMAP_THRESHOLD, 1 << 20);
-  (void)set;
-#endif
-}
-
-// Hands freed heap pages back to the system at the end of a stage. glibc keeps what many small blocks
-// freed (a band's scan, a solver's levels) in its arenas, where it counts in every later peak.
-void release_free_memory() {
-#if defined(__GLIBC__)
-  malloc_trim(0);
-#endif
 }
 
 }  // namespace
