@@ -251,15 +251,16 @@ PaddedGrid checked_grid(const SparseField& field, double iso) {
 std::array<int, 256> euler_per_corner_mask() {
   std::array<int, 256> table{};
   for (int m = 1; m < 256; m += 2) {
-    const auto in = [&](int corner) { return (m >> corner) & 1; };
+    const auto all_in = [&](int corners) { return (m & corners) == corners; };  // corners: a bit set
+    const auto corner = [](int c) { return 1 << c; };
     int chi = 1;
-    for (int a = 1; a < 8; ++a) chi -= in(a);
+    for (int a = 1; a < 8; ++a) chi -= all_in(corner(a));
     for (int a = 1; a < 8; ++a)
       for (int b = a + 1; b < 8; ++b)
-        if ((a & b) == a) chi += in(a)&in(b);
+        if ((a & b) == a) chi += all_in(corner(a) | corner(b));
     for (int a : {1, 2, 4})
       for (int b : {1, 2, 4})
-        if (a != b) chi -= in(a)&in(a | b) & in(7);
+        if (a != b) chi -= all_in(corner(a) | corner(a | b) | corner(7));
     table[static_cast<std::size_t>(m)] = chi;
   }
   return table;

@@ -457,11 +457,10 @@ PipelineResult run_pipeline(const PipelineConfig& given) {
     result.meshes.push_back(out);
   }
   std::vector<std::vector<WallProbe>> probes;
-  if (shell_mode)
+  if (shell_mode) {
     for (double iso : config.iso_levels)
       probes.push_back(wall_probes(placed, band, phi, iso, result.solid.wall_mm,
                                    parse_wall_offset(config.offset), side.side));
-  if (shell_mode) {
     phi = {};
     band_storage.reset();  // `band` is not used below in shell mode
     release_free_memory();
