@@ -199,16 +199,11 @@ double MeshSurface::nearest(const Vec3& p, Vec3& closest, std::int32_t& index) c
 }
 
 double MeshSurface::distance(const Vec3& p) const {
-  Vec3 closest;
-  std::int32_t index = 0;
-  return std::sqrt(nearest(p, closest, index));
+  return distance_and_closest_point(p).distance;
 }
 
 std::optional<Vec3> MeshSurface::closest_point(const Vec3& p) const {
-  Vec3 closest;
-  std::int32_t index = 0;
-  nearest(p, closest, index);
-  return closest;
+  return distance_and_closest_point(p).closest_point;
 }
 
 SurfaceQuery MeshSurface::distance_and_closest_point(const Vec3& p) const {

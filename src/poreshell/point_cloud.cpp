@@ -150,10 +150,7 @@ double SplatSurface::distance(const Vec3& p) const {
 }
 
 std::optional<Vec3> SplatSurface::closest_point(const Vec3& p) const {
-  const std::size_t i = tree_->closest(p, [&](std::size_t j) { return splat_distance(j, p, nullptr); }).first;
-  Vec3 cp;
-  splat_distance(i, p, &cp);
-  return cp;
+  return distance_and_closest_point(p).closest_point;
 }
 
 SurfaceQuery SplatSurface::distance_and_closest_point(const Vec3& p) const {
