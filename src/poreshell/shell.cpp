@@ -13,7 +13,11 @@ namespace {
 
 constexpr int kLeafBlock = 8;        // side of the blocks whose points are tested one by one
 constexpr int kTopBlock = 64;        // side of the blocks the scan starts from (one task each)
-constexpr double kReachCells = 2.0;  // samples beyond the slab, so every crossing cell is complete
+// Samples beyond the slab, so that every cube with a corner inside has all 8: a cube's corners lie
+// within its diagonal, sqrt(3) cells, of each other and the distance is 1-Lipschitz (a little more
+// than sqrt(3) against rounding).
+constexpr double kReachCells = 1.7325;
+constexpr double kMarginCells = 4.0;  // the shell grid's extent beyond the slab: the reach and spare cells
 
 // Calls leaf(c) for the grid points c of the block [origin, origin + size)^3 that may lie within
 // `reach` of the surface (by the unsigned distance, which is 1-Lipschitz: whole blocks are skipped on
@@ -89,9 +93,9 @@ ShellSamples sample_shell(const Surface& surface, const NarrowBand& band, std::s
                                                                        : 0.0;
   const double reach = std::abs(center_offset) + 0.5 * t + kReachCells * h;  // in unsigned distance
 
-  // A grid of spacing h around the surface's box, one spare cell beyond the reach on every side.
+  // A grid of spacing h around the surface's box, spare cells beyond the reach on every side.
   const Box box = surface.bounds();
-  const Vec3 margin = Vec3::Constant(reach + 2.0 * h);
+  const Vec3 margin = Vec3::Constant(std::abs(center_offset) + 0.5 * t + kMarginCells * h);
   const Vec3 extent = box.max - box.min + 2.0 * margin;
   std::array<int, 3> dims{};
   for (int a = 0; a < 3; ++a) {
