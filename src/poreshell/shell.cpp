@@ -11,8 +11,8 @@
 namespace poreshell {
 namespace {
 
-constexpr int kLeafBlock = 8;        // side of the blocks whose points are tested one by one
-constexpr int kTopBlock = 64;        // side of the blocks the scan starts from (one task each)
+constexpr int kLeafBlock = 8;  // side of the blocks whose points are tested one by one
+constexpr int kTopBlock = 64;  // side of the blocks the scan starts from (one task each)
 // Samples beyond the slab, so that every cube with a corner inside has all 8: a cube's corners lie
 // within its diagonal, sqrt(3) cells, of each other and the distance is 1-Lipschitz (a little more
 // than sqrt(3) against rounding).
