@@ -188,11 +188,40 @@ TEST(Shell, SamplesGrowWithTheAreaNotTheBox) {
   for (double t : {2.0 * h, 8.0 * h}) {
     const ShellSamples samples = sample_shell(s.sphere, s.band, s.phi, options(t, WallOffset::centered, h));
     const double hs = samples.grid.h();
-    const double slab = 4 * std::numbers::pi * kRadius * kRadius * (t + 4 * hs) / (hs * hs * hs);
+    const double slab =
+        4 * std::numbers::pi * kRadius * kRadius * (t + 2 * std::sqrt(3.0) * hs) / (hs * hs * hs);
     EXPECT_NEAR(static_cast<double>(samples.points.size()) / slab, 1.0, 0.1) << "t " << t / h << " h";
     EXPECT_LT(static_cast<double>(samples.points.size()),
               0.5 * static_cast<double>(samples.grid.cell_count()));
   }
+}
+
+// Every cube with a corner inside the wall has all 8 corners sampled (a missing one would take the
+// background value and move the surface): the samples reach sqrt(3) cells beyond the slab.
+TEST(Shell, EveryCubeTouchingTheWallIsSampled) {
+  const SphereCase s;
+  const double h = s.grid.h();
+  for (double t : {1.5 * h, 4.0 * h})
+    for (WallOffset offset : {WallOffset::centered, WallOffset::inside, WallOffset::outside}) {
+      const ShellSamples samples = sample_shell(s.sphere, s.band, s.phi, options(t, offset, h));
+      std::vector<std::int64_t> keys(samples.points.size());
+      for (std::size_t n = 0; n < keys.size(); ++n) keys[n] = samples.grid.key(samples.points[n]);
+      ASSERT_TRUE(std::is_sorted(keys.begin(), keys.end()));
+      std::int64_t inside = 0, missing = 0;
+      for (std::size_t n = 0; n < keys.size(); ++n) {
+        if (!(samples.wall[n] < 0.0)) continue;
+        ++inside;
+        const Coord c = samples.points[n];
+        for (int dk = -1; dk <= 1; ++dk)
+          for (int dj = -1; dj <= 1; ++dj)
+            for (int di = -1; di <= 1; ++di) {
+              const std::int64_t key = samples.grid.key({c.i + di, c.j + dj, c.k + dk});
+              missing += !std::binary_search(keys.begin(), keys.end(), key);
+            }
+      }
+      EXPECT_GT(inside, 1000);
+      EXPECT_EQ(missing, 0) << "t " << t / h << " h, " << to_string(offset);
+    }
 }
 
 TEST(Shell, RejectsANonPositiveWall) {
