@@ -138,8 +138,9 @@ StepReport FastSolver::solve_step(std::span<const double> phi_old, std::vector<d
 
   // Error bound in phi (max norm): |r1| / (z1 z2) + |r2| / z2 <= tolerance. The first solve may use
   // most of it and the second gets what the first left: a V-cycle cuts the residual about 10x, so the
-  // first solve usually ends far inside its share. Measured against halves (bunny, sphere, torus at
-  // N = 131): 494 -> 438, 590 -> 568 and 881 -> 814 V-cycles, the same steps and spots.
+  // first usually ends well inside its share and leaves the second more than a fixed half, which then
+  // often needs one cycle fewer. Against halves (bunny, sphere, torus at N = 131): 494 -> 438,
+  // 590 -> 568 and 881 -> 814 V-cycles, the same steps and spots.
   const MultigridSolveReport first =
       multigrid_.solve(z1_, rhs_, y_, kFirstSolveShare * options_.tolerance * z1_ * z2_, options_.max_cycles);
   // The second keeps at least its own share where the first stopped at max_cycles short of its target.

@@ -48,7 +48,7 @@ inline constexpr double kMinCellsAcrossWall = 3.0;
 
 struct ShellSamples {
   Grid grid{Vec3::Zero(), 1.0, {3, 3, 3}};
-  std::vector<Coord> points;    // every grid point within t/2 + 2 cells of the wall's mid-surface, by key
+  std::vector<Coord> points;    // grid points within t/2 + sqrt(3) cells of the wall's middle, by key
   std::vector<double> wall;     // |d - c| - t/2: negative inside the wall slab
   std::vector<double> pattern;  // phi_ext
   double pattern_length = 0.0;
