@@ -11,7 +11,7 @@
 namespace poreshell {
 namespace {
 
-constexpr int kLeafBlock = 8;  // side of the blocks whose points are tested one by one
+constexpr int kLeafBlock = 2;  // side of the blocks whose points are tested one by one
 constexpr int kTopBlock = 64;  // side of the blocks the scan starts from (one task each)
 // Samples beyond the slab, so that every cube with a corner inside has all 8: a cube's corners lie
 // within its diagonal, sqrt(3) cells, of each other and the distance is 1-Lipschitz (a little more
@@ -20,8 +20,9 @@ constexpr double kReachCells = 1.7325;
 constexpr double kMarginCells = 4.0;  // the shell grid's extent beyond the slab: the reach and spare cells
 
 // Calls leaf(c) for the grid points c of the block [origin, origin + size)^3 that may lie within
-// `reach` of the surface (by the unsigned distance, which is 1-Lipschitz: whole blocks are skipped on
-// one query), in key order per leaf block; leaf makes the exact test and returns the unsigned distance
+// `reach` of the surface (by the unsigned distance, which is 1-Lipschitz: one query at a block's centre
+// rules out the whole block, or shows all of it within reach, where splitting it further would only
+// add queries), in key order per block; leaf makes the exact test and returns the unsigned distance
 // it found, which skips the next points of the row that are as surely out of reach.
 template <class Leaf>
 void scan_block(const Surface& surface, const Grid& grid, const Coord& origin, int size, double reach,
@@ -30,8 +31,10 @@ void scan_block(const Surface& surface, const Grid& grid, const Coord& origin, i
   if (origin.i >= d[0] || origin.j >= d[1] || origin.k >= d[2]) return;
   const double h = grid.h();
   const Vec3 center = grid.position(origin) + Vec3::Constant(0.5 * (size - 1) * h);
-  if (std::abs(surface.distance(center)) > reach + 0.5 * std::sqrt(3.0) * (size - 1) * h) return;
-  if (size > kLeafBlock) {
+  const double center_distance = std::abs(surface.distance(center));
+  const double half_diagonal = 0.5 * std::sqrt(3.0) * (size - 1) * h;
+  if (center_distance > reach + half_diagonal) return;
+  if (size > kLeafBlock && center_distance + half_diagonal > reach) {
     const int half = size / 2;
     for (int c = 0; c < 8; ++c)
       scan_block(surface, grid,
