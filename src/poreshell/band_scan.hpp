@@ -9,7 +9,9 @@
 // in one array per row of blocks along x (one allocation per block made the allocator keep megabytes
 // after the band was built). Memory grows with the surface area times the reach.
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -17,6 +19,42 @@
 #include "poreshell/surface.hpp"
 
 namespace poreshell {
+
+// Calls visit(c) for the grid points c of the block [origin, origin + size)^3 (size a power of 2) that
+// may lie within `reach` of the surface, by its distance, which is 1-Lipschitz: one query at a block's
+// centre rules out the whole block, or shows all of it within reach, where splitting it further would
+// only add queries; grazed blocks are split down to 2^3. visit makes the exact test and returns the
+// unsigned distance it found, which skips the next points of the row that are as surely out of reach.
+// Returns false when the centre query ruled out the whole block.
+template <class Visit>
+bool for_each_point_near(const Surface& surface, const Grid& grid, const Coord& origin, int size,
+                         double reach, const Visit& visit) {
+  constexpr int kSmallestBlock = 2;
+  const auto& d = grid.dims();
+  if (origin.i >= d[0] || origin.j >= d[1] || origin.k >= d[2]) return false;
+  const double h = grid.h();
+  const Vec3 center = grid.position(origin) + Vec3::Constant(0.5 * (size - 1) * h);
+  const double center_distance = std::abs(surface.distance(center));
+  const double half_diagonal = 0.5 * std::sqrt(3.0) * (size - 1) * h;
+  if (center_distance > reach + half_diagonal) return false;
+  if (size > kSmallestBlock && center_distance + half_diagonal > reach) {
+    const int half = size / 2;
+    for (int c = 0; c < 8; ++c)
+      for_each_point_near(
+          surface, grid,
+          {origin.i + (c & 1) * half, origin.j + ((c >> 1) & 1) * half, origin.k + (c >> 2) * half}, half,
+          reach, visit);
+    return true;
+  }
+  for (int k = origin.k; k < std::min(origin.k + size, d[2]); ++k)
+    for (int j = origin.j; j < std::min(origin.j + size, d[1]); ++j)
+      for (int i = origin.i; i < std::min(origin.i + size, d[0]); ++i) {
+        const double distance = visit(Coord{i, j, k});
+        if (distance > reach && std::isfinite(distance))
+          i += static_cast<int>(std::floor((distance - reach) / h));
+      }
+  return true;
+}
 
 class NearField {
  public:

@@ -5,50 +5,19 @@
 #include <algorithm>
 #include <cmath>
 
+#include "poreshell/band_scan.hpp"
 #include "poreshell/error.hpp"
 #include "poreshell/isosurface.hpp"
 
 namespace poreshell {
 namespace {
 
-constexpr int kLeafBlock = 2;  // side of the blocks whose points are tested one by one
 constexpr int kTopBlock = 64;  // side of the blocks the scan starts from (one task each)
 // Samples beyond the slab, so that every cube with a corner inside has all 8: a cube's corners lie
 // within its diagonal, sqrt(3) cells, of each other and the distance is 1-Lipschitz (a little more
 // than sqrt(3) against rounding).
 constexpr double kReachCells = 1.7325;
 constexpr double kMarginCells = 4.0;  // the shell grid's extent beyond the slab: the reach and spare cells
-
-// Calls leaf(c) for the grid points c of the block [origin, origin + size)^3 that may lie within
-// `reach` of the surface (by the unsigned distance, which is 1-Lipschitz: one query at a block's centre
-// rules out the whole block, or shows all of it within reach, where splitting it further would only
-// add queries), in key order per block; leaf makes the exact test and returns the unsigned distance
-// it found, which skips the next points of the row that are as surely out of reach.
-template <class Leaf>
-void scan_block(const Surface& surface, const Grid& grid, const Coord& origin, int size, double reach,
-                const Leaf& leaf) {
-  const auto& d = grid.dims();
-  if (origin.i >= d[0] || origin.j >= d[1] || origin.k >= d[2]) return;
-  const double h = grid.h();
-  const Vec3 center = grid.position(origin) + Vec3::Constant(0.5 * (size - 1) * h);
-  const double center_distance = std::abs(surface.distance(center));
-  const double half_diagonal = 0.5 * std::sqrt(3.0) * (size - 1) * h;
-  if (center_distance > reach + half_diagonal) return;
-  if (size > kLeafBlock && center_distance + half_diagonal > reach) {
-    const int half = size / 2;
-    for (int c = 0; c < 8; ++c)
-      scan_block(surface, grid,
-                 {origin.i + (c & 1) * half, origin.j + ((c >> 1) & 1) * half, origin.k + (c >> 2) * half},
-                 half, reach, leaf);
-    return;
-  }
-  for (int k = origin.k; k < std::min(origin.k + size, d[2]); ++k)
-    for (int j = origin.j; j < std::min(origin.j + size, d[1]); ++j)
-      for (int i = origin.i; i < std::min(origin.i + size, d[0]); ++i) {
-        const double distance = leaf(Coord{i, j, k});
-        if (distance > reach) i += static_cast<int>(std::floor((distance - reach) / h));
-      }
-}
 
 struct Sample {
   Coord point;
@@ -149,8 +118,8 @@ ShellSamples sample_shell(const Surface& surface, const NarrowBand& band, std::s
                        static_cast<int>((b / std::size_t(tops[0])) % std::size_t(tops[1])) * kTopBlock,
                        static_cast<int>(b / (std::size_t(tops[0]) * std::size_t(tops[1]))) * kTopBlock};
     std::vector<Sample>& samples = per_block[b];
-    scan_block(surface, out.grid, origin, kTopBlock, reach,
-               [&](const Coord& c) { return sample(c, samples); });
+    for_each_point_near(surface, out.grid, origin, kTopBlock, reach,
+                        [&](const Coord& c) { return sample(c, samples); });
     std::sort(samples.begin(), samples.end(), [&](const Sample& p, const Sample& q) {
       return out.grid.key(p.point) < out.grid.key(q.point);
     });
