@@ -11,10 +11,10 @@
 //
 // S is chosen every step just above the smallest value the energy-stability argument allows: S >= f'(xi)/2
 // for every xi between phi^n and phi^{n+1} at every voxel, f' = 3 phi^2 - 1 (Shen and Yang 2010), with
-// phi^{n+1} predicted by the step's initial guess. A larger
-// S slows the growth of the pattern: with S = 1 throughout, the spinodal phase is about 1.7 times
-// slower than in the paper's scheme and the stopping rule can fire before the pattern forms. A step
-// that ends outside the range its S covers is repeated with a larger S.
+// phi^{n+1} predicted by the step's initial guess. A larger S slows the growth of the pattern: with
+// S = 1 throughout, the spinodal phase is about 1.7 times slower than in the paper's scheme and the
+// stopping rule can fire before the pattern forms. A step that ends outside the range its S covers is
+// repeated with a larger S.
 
 #include <memory>
 #include <vector>
