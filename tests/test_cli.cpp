@@ -255,10 +255,11 @@ TEST_F(Cli, SmallRunWritesStlAndReport) {
   EXPECT_EQ(stl.size(), 84u + 50u * triangles);
 
   const nlohmann::json report = nlohmann::json::parse(read_file(work() / "X.json"));
-  for (const char* key : {"/grid/dims", "/grid/h", "/band/voxels", "/band/ghosts", "/solver/name",
-                          "/solver/steps", "/solver/final_ec", "/solver/energy/first", "/solver/energy/last",
-                          "/pattern/spots", "/pattern/size_cv", "/mesh/triangles", "/mesh/closed",
-                          "/mesh/manifold", "/mesh/euler_characteristic", "/seconds/total", "/threads"})
+  for (const char* key :
+       {"/grid/dims", "/grid/h", "/band/voxels", "/band/ghosts", "/solver/name", "/solver/steps",
+        "/solver/final_ec", "/solver/repeated_steps", "/solver/energy/first", "/solver/energy/last",
+        "/pattern/spots", "/pattern/size_cv", "/mesh/triangles", "/mesh/closed", "/mesh/manifold",
+        "/mesh/euler_characteristic", "/seconds/total", "/threads"})
     EXPECT_TRUE(report.contains(nlohmann::json::json_pointer(key))) << key;
   EXPECT_EQ(report["grid"]["dims"], nlohmann::json({33, 33, 33}));
   EXPECT_EQ(report["solver"]["steps"], 5);

@@ -100,9 +100,10 @@ StepReport FastSolver::step(std::vector<double>& phi) {
     report.converged = r.converged;
     const double needed = required_stabilisation(std::max(old_square, max_square(phi)));
     if (needed <= s_ || attempt == kMaxRepeats || !std::isfinite(needed)) break;
-    ++repeated_;
+    ++report.repeats;
     set_stabilisation(1.05 * needed);
   }
+  if (report.repeats > 0) ++repeated_;
   std::swap(second_previous_, previous_);  // the history for the next step's guess
   std::swap(previous_, old_);
   ++steps_;

@@ -113,6 +113,7 @@ nlohmann::json to_json(const PipelineResult& r) {
         {"reached_tolerance", r.run.reached_tolerance},
         {"inner_converged", r.run.inner_converged},
         {"inner_iterations", r.run.inner_iterations},
+        {"repeated_steps", r.run.repeated_steps},
         {"energy", {{"first", r.run.energy_first}, {"last", r.run.energy_last}, {"trace", energy_trace}}}}},
       {"pattern",
        {{"spots", r.spots.count},

@@ -12,6 +12,7 @@ struct StepReport {
   int inner_iterations = 0;  // Newton steps or relaxation sweeps
   double residual = 0.0;     // max-norm residual of the discrete equations after the step
   bool converged = true;     // inner tolerance reached
+  int repeats = 0;           // times the step was solved again (the fast solver's stabilisation)
 };
 
 class TimeStepper {

@@ -39,6 +39,7 @@ RunResult run_to_steady_state(TimeStepper& stepper, std::vector<double>& phi, co
     result.steps = step;
     result.final_ec = progress.ec;
     result.inner_iterations += progress.inner.inner_iterations;
+    if (progress.inner.repeats > 0) ++result.repeated_steps;
     result.inner_converged = result.inner_converged && progress.inner.converged;
     result.reached_tolerance = progress.ec < options.tolerance;
     if (result.reached_tolerance && options.min_spread > 0.0) {

@@ -37,6 +37,7 @@ struct RunResult {
   int quiet_steps_passed = 0;   // steps with e_c < tol that did not stop the run (phases not separated)
   bool inner_converged = true;  // every step reached its inner tolerance
   long long inner_iterations = 0;
+  int repeated_steps = 0;                                          // steps solved more than once
   double energy_first = std::numeric_limits<double>::quiet_NaN();  // NaN when no energy was evaluated
   double energy_last = std::numeric_limits<double>::quiet_NaN();
   std::vector<std::pair<int, double>> energy_trace;  // (step, energy) where evaluated
