@@ -222,9 +222,8 @@ TEST(FastSolver, StabilisationRarelyNeedsARepeat) {
   options.max_steps = 1500;
   const RunResult run = run_to_steady_state(fast, phi, nullptr, options);
   ASSERT_TRUE(run.reached_tolerance);
-  std::printf("%d steps, %d repeated, final S %.3f (real-root floor %.3f)\n", run.steps,
-              fast.repeated_steps(), fast.stabilisation(),
+  std::printf("%d steps, %d repeated, final S %.3f (real-root floor %.3f)\n", run.steps, run.repeated_steps,
+              fast.stabilisation(),
               2 * std::sqrt(model.epsilon * model.epsilon * (1 / (100 * c.grid.h()) + model.alpha)));
-  EXPECT_LE(fast.repeated_steps(), run.steps / 20);
-  EXPECT_EQ(run.repeated_steps, fast.repeated_steps());  // what the report's solver.repeated_steps says
+  EXPECT_LE(run.repeated_steps, run.steps / 20);  // the report's solver.repeated_steps
 }

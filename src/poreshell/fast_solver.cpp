@@ -103,7 +103,6 @@ StepReport FastSolver::step(std::vector<double>& phi) {
     ++report.repeats;
     set_stabilisation(1.05 * needed);
   }
-  if (report.repeats > 0) ++repeated_;
   std::swap(second_previous_, previous_);  // the history for the next step's guess
   std::swap(previous_, old_);
   ++steps_;

@@ -45,7 +45,6 @@ class FastSolver final : public TimeStepper {
   double stabilisation() const { return s_; }
   double shift_small() const { return z1_; }
   double shift_large() const { return z2_; }
-  int repeated_steps() const { return repeated_; }
   const BandMultigrid& multigrid() const { return multigrid_; }
   std::size_t memory_bytes() const;
 
@@ -65,7 +64,7 @@ class FastSolver final : public TimeStepper {
   std::vector<double> rhs_, y_;                           // y = (z2 - L) phi^{n+1}
   std::vector<double> mean_field_;                        // empty: the model's phi_bar everywhere
   std::vector<double> old_, previous_, second_previous_;  // phi^n, phi^{n-1}, phi^{n-2}: the guess
-  int steps_ = 0, repeated_ = 0;
+  int steps_ = 0;
 };
 
 }  // namespace poreshell
