@@ -241,6 +241,13 @@ int run(int argc, char** argv) {
       ->type_name("S")
       ->check(number_above(0.0, true))
       ->capture_default_str();
+  std::string coarse_start = "auto";
+  app.add_option(
+         "--coarse-start", coarse_start,
+         "fast solver: auto forms the pattern on a coarser grid first where epsilon spans 2 eps_4 "
+         "or more (fine voxels for large pores), then relaxes it here; off solves here from the start")
+      ->check(CLI::IsMember({"auto", "off"}))
+      ->capture_default_str();
   app.add_option("--inner", inner, "reference solver: inner relaxation per step (paper: jacobi)")
       ->check(CLI::IsMember({"gauss-seidel", "jacobi"}))
       ->capture_default_str();
@@ -278,6 +285,7 @@ int run(int argc, char** argv) {
   }
 
   config.inner.method = poreshell::parse_inner_iteration(inner);
+  config.coarse_start = coarse_start == "auto";
   config.output = output;
   for (const std::string& text : keep_out) {
     std::array<double, 4> sphere{};

@@ -16,7 +16,7 @@ std::string yes_no(bool b, const char* yes, const char* no) {
 void print_progress(const poreshell::StepProgress& p, std::chrono::steady_clock::time_point start) {
   if (p.step != 1 && p.step % 10 != 0 && std::isnan(p.energy)) return;
   const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::string line = fmt::format("step {:5d}  e_c {:.3e}", p.step, p.ec);
+  std::string line = fmt::format("{}step {:5d}  e_c {:.3e}", p.coarse ? "coarse " : "", p.step, p.ec);
   if (!std::isnan(p.energy)) line += fmt::format("  energy {:.6e}", p.energy);
   line += fmt::format("  inner {} iterations{}  {:.1f} s", p.inner.inner_iterations,
                       p.inner.converged ? "" : " (not converged)", t);
@@ -49,6 +49,12 @@ void print_summary(const poreshell::PipelineConfig& c, const poreshell::Pipeline
   else
     fmt::print("  model    alpha {:g}, epsilon {:.6g} (m = {:g}), phi-bar {:g}, dt {:.6g} ({:g} h)\n",
                r.model.alpha, r.model.epsilon, c.epsilon_m, r.model.phi_bar, r.dt, c.dt_in_h);
+  if (const auto& cs = r.coarse_start)
+    fmt::print(
+        "  coarse   pattern formed on {} x {} x {} (epsilon {:.3g} h there, {} band voxels): {} steps, "
+        "{} inner iterations, {} spots, {:.2f} s; carried here\n",
+        cs->dims[0], cs->dims[1], cs->dims[2], r.model.epsilon / cs->h, cs->band_voxels, cs->run.steps,
+        cs->run.inner_iterations, cs->spots, cs->seconds);
   fmt::print("  solver   {} ({} inner): {} steps, final e_c {:.3e} {} tol {:g} ({}), {} inner iterations{}\n",
              r.solver_name, r.inner_iteration, r.run.steps, r.run.final_ec,
              r.run.reached_tolerance ? "<" : ">=", c.tolerance,

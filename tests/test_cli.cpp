@@ -257,12 +257,13 @@ TEST_F(Cli, SmallRunWritesStlAndReport) {
   const nlohmann::json report = nlohmann::json::parse(read_file(work() / "X.json"));
   for (const char* key :
        {"/grid/dims", "/grid/h", "/band/voxels", "/band/ghosts", "/solver/name", "/solver/steps",
-        "/solver/final_ec", "/solver/repeated_steps", "/solver/energy/first", "/solver/energy/last",
-        "/pattern/spots", "/pattern/size_cv", "/mesh/triangles", "/mesh/closed", "/mesh/manifold",
-        "/mesh/euler_characteristic", "/seconds/total", "/threads"})
+        "/solver/final_ec", "/solver/repeated_steps", "/solver/coarse_start", "/solver/energy/first",
+        "/solver/energy/last", "/pattern/spots", "/pattern/size_cv", "/mesh/triangles", "/mesh/closed",
+        "/mesh/manifold", "/mesh/euler_characteristic", "/seconds/total", "/threads"})
     EXPECT_TRUE(report.contains(nlohmann::json::json_pointer(key))) << key;
   EXPECT_EQ(report["grid"]["dims"], nlohmann::json({33, 33, 33}));
   EXPECT_EQ(report["solver"]["steps"], 5);
+  EXPECT_TRUE(report["solver"]["coarse_start"].is_null());  // the paper's eps_4: the grid is the pattern's
   EXPECT_EQ(report["mesh"]["triangles"], triangles);
   EXPECT_EQ(report["mesh"]["closed"], true);
   EXPECT_EQ(report["mesh"]["manifold"], true);

@@ -77,3 +77,31 @@ TEST(Pipeline, BunnyScanGivesAClosedManifoldPorousShellInTheScansUnits) {
     }
   }
 }
+
+// Large pores on a fine grid (the interface over 8 cells): the pattern is formed on the grid where it
+// spans 4 and carried; the fine run relaxes it in a few steps and keeps its spots. Off: no coarse level.
+TEST(Pipeline, CoarseStartWhereTheInterfaceSpansManyVoxels) {
+  const fs::path dir = scratch_dir("coarse-start");
+  PipelineConfig c;
+  c.mesh = fs::path(PORESHELL_DATA_DIR) / "stanford-bunny.obj";
+  c.resolution = 97;
+  c.epsilon_m = 8;  // the 49-point grid's eps_4
+  c.dt_in_h = 200;  // and its dt = 100 h
+  c.alpha = 300;    // and the alpha of the test above
+  c.output = dir / "bunny.stl";
+  const PipelineResult r = run_pipeline(c);
+  ASSERT_TRUE(r.coarse_start);
+  const CoarseLevel& coarse = *r.coarse_start;
+  EXPECT_NEAR(coarse.h, 2.0 * r.h, 1e-12);
+  EXPECT_TRUE(coarse.run.reached_tolerance);
+  EXPECT_TRUE(r.run.reached_tolerance);
+  EXPECT_LE(r.run.steps * 5, coarse.run.steps);
+  EXPECT_NEAR(static_cast<double>(r.spots.count), static_cast<double>(coarse.spots),
+              0.05 * static_cast<double>(coarse.spots) + 1.0);
+  EXPECT_GE(r.spots.count, 20);
+  EXPECT_EQ(r.meshes.at(0).topology.boundary_edges, 0);
+
+  c.coarse_start = false;
+  c.max_steps = 1;
+  EXPECT_FALSE(run_pipeline(c).coarse_start);
+}

@@ -211,6 +211,16 @@ std::size_t NarrowBand::memory_bytes() const {
          closest_point_offsets_.capacity() * sizeof(closest_point_offsets_[0]);
 }
 
+Grid covering_grid(const Surface& surface, double h) {
+  constexpr int kPadCells = 6;  // the band (1.9 cells), its ghosts and a margin
+  const Box box = surface.bounds();
+  const Vec3 origin = box.min - Vec3::Constant(kPadCells * h);
+  std::array<int, 3> dims{};
+  for (int a = 0; a < 3; ++a)
+    dims[a] = static_cast<int>(std::ceil((box.max[a] - box.min[a]) / h)) + 2 * kPadCells + 1;
+  return Grid(origin, h, dims);
+}
+
 NarrowBand build_band(const Surface& surface, const Grid& grid, const BandOptions& options) {
   NarrowBand band(grid);
   const double delta = options.delta_in_h * grid.h();

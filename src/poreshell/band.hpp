@@ -143,6 +143,9 @@ struct PointStencil {
 };
 PointStencil interpolation_stencil(const NarrowBand& band, const Vec3& p);
 
+// A grid of spacing h around the surface's bounds with room for its band and ghosts on every side.
+Grid covering_grid(const Surface& surface, double h);
+
 // Builds the band of `surface` on `grid`. Throws InputError if the band would touch the grid's edge
 // or is empty.
 NarrowBand build_band(const Surface& surface, const Grid& grid, const BandOptions& options = {});

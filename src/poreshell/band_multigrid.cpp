@@ -22,7 +22,6 @@ constexpr int kMaxLevels = 8;
 constexpr int kSmoothingSweeps = 2;  // before and after the coarse correction
 constexpr int kCoarsestSweeps = 10;  // between residual checks
 constexpr int kMaxCoarsestSweeps = 400;
-constexpr int kPadCells = 6;  // coarse grids: band (1.9 cells) + ghosts + margin
 
 // Coarse levels hold a few thousand voxels: one task each, not a scheduler round trip per loop.
 constexpr std::size_t kGrain = 2048;
@@ -75,16 +74,6 @@ std::vector<Vec3> surface_samples(const NarrowBand& band, std::span<const Vec3> 
   for (std::size_t v = 0; v < band.size(); ++v)
     if (std::abs(band.distance()[v]) <= near) samples.push_back(cps[v]);
   return samples;
-}
-
-// The grid of spacing h that holds the surface's band with kPadCells of margin.
-Grid covering_grid(const Surface& surface, double h) {
-  const Box box = surface.bounds();
-  const Vec3 origin = box.min - Vec3::Constant(kPadCells * h);
-  std::array<int, 3> dims{};
-  for (int a = 0; a < 3; ++a)
-    dims[a] = static_cast<int>(std::ceil((box.max[a] - box.min[a]) / h)) + 2 * kPadCells + 1;
-  return Grid(origin, h, dims);
 }
 
 }  // namespace

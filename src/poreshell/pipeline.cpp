@@ -15,6 +15,7 @@
 #include <optional>
 #include <sstream>
 
+#include "poreshell/coarse_start.hpp"
 #include "poreshell/error.hpp"
 #include "poreshell/file_format.hpp"
 #include "poreshell/heap.hpp"
@@ -387,18 +388,50 @@ PipelineResult run_pipeline(const PipelineConfig& given) {
 
   set_model(config, placed, grid, result);
   t = std::chrono::steady_clock::now();
-  // Solid zones (rims along open boundaries, keep-out spheres and masks) as a local mean concentration.
-  const std::vector<double> solid_weight = solid_zones(config, placed, band, result.model.epsilon);
-  const std::vector<double> mean_field = solid_weight.empty()
-                                             ? std::vector<double>{}
-                                             : mean_concentration_field(solid_weight, result.model.phi_bar);
+  // The initial state on a band: noise about phi_bar, solid zones (rims along open boundaries, keep-out
+  // spheres and masks) solid and held there by a local mean concentration.
+  const auto level_start = [&](const NarrowBand& b) {
+    LevelStart s;
+    const std::vector<double> weight = solid_zones(config, placed, b, result.model.epsilon);
+    s.phi = random_initial_condition(b, result.model.phi_bar, config.amplitude, config.seed);
+    for (std::size_t v = 0; v < weight.size(); ++v) s.phi[v] = (1.0 - weight[v]) * s.phi[v] - weight[v];
+    if (!weight.empty()) s.mean_field = mean_concentration_field(weight, result.model.phi_bar);
+    return s;
+  };
+  LevelStart fine_start = level_start(band);
+  std::vector<double>& phi = fine_start.phi;
+  RunOptions run_options;
+  run_options.max_steps = config.max_steps;
+  run_options.tolerance = config.tolerance;
+  run_options.energy_every = config.energy_every;
+  // Separated phases span about [-1, 1]; the decayed noise of the quiet phase spans far less.
+  if (uniform_state_unstable(result.model.alpha, result.model.epsilon, result.model.phi_bar))
+    run_options.min_spread = 1.0;
+  run_options.on_step = config.on_step;
+  const std::optional<Grid> coarse_grid = config.solver == "fast" && config.coarse_start
+                                              ? pattern_grid(*placed.surface, grid.h(), result.model.epsilon)
+                                              : std::nullopt;
+  if (coarse_grid) {
+    CoarseStartOptions coarse{level_start, run_options, config.fast};
+    coarse.run.energy_every = 0;
+    if (config.on_step)
+      coarse.run.on_step = [&](const StepProgress& p) {
+        StepProgress tagged = p;
+        tagged.coarse = true;
+        config.on_step(tagged);
+      };
+    result.coarse_start.emplace();
+    phi = coarse_start(*placed.surface, *coarse_grid, band, result.model, result.dt, coarse,
+                       *result.coarse_start);
+    release_free_memory();
+  }
   std::unique_ptr<TimeStepper> solver;
   if (config.solver == "reference") {
     solver = std::make_unique<ReferenceSolver>(band, result.model, result.dt, config.inner);
     result.inner_iteration = to_string(config.inner.method);
   } else {
     auto fast = std::make_unique<FastSolver>(band, result.model, result.dt, config.fast);
-    if (!mean_field.empty()) fast->set_mean_field(mean_field);
+    if (!fine_start.mean_field.empty()) fast->set_mean_field(std::move(fine_start.mean_field));
     result.solver_bytes = fast->memory_bytes();
     solver = std::move(fast);
     result.inner_iteration = "multigrid";
@@ -408,18 +441,6 @@ PipelineResult run_pipeline(const PipelineConfig& given) {
   // --energy-every 0 skips it for large runs.
   std::optional<EnergyFunctional> energy;
   if (config.energy_every > 0) energy.emplace(band, result.model);
-  std::vector<double> phi =
-      random_initial_condition(band, result.model.phi_bar, config.amplitude, config.seed);
-  for (std::size_t v = 0; v < solid_weight.size(); ++v)  // solid zones start solid
-    phi[v] = (1.0 - solid_weight[v]) * phi[v] + solid_weight[v] * -1.0;
-  RunOptions run_options;
-  run_options.max_steps = config.max_steps;
-  run_options.tolerance = config.tolerance;
-  run_options.energy_every = config.energy_every;
-  // Separated phases span about [-1, 1]; the decayed noise of the quiet phase spans far less.
-  if (uniform_state_unstable(result.model.alpha, result.model.epsilon, result.model.phi_bar))
-    run_options.min_spread = 1.0;
-  run_options.on_step = config.on_step;
   result.run = run_to_steady_state(*solver, phi, energy ? &*energy : nullptr, run_options);
   // The solver's hierarchy and the energy's factorisation are done with: free them before meshing,
   // the stage with the largest footprint.

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "poreshell/band.hpp"
+#include "poreshell/coarse_start.hpp"
 #include "poreshell/fast_solver.hpp"
 #include "poreshell/grading.hpp"
 #include "poreshell/hole_map.hpp"
@@ -53,10 +54,13 @@ struct PipelineConfig {
   std::string solver = "fast";     // fast (docs/solver.md) | reference (the paper's scheme, relaxation)
   InnerOptions inner;              // reference solver
   FastOptions fast;                // fast solver
-  int energy_every = 0;            // evaluate the energy (3.2) every K steps and at the end; 0: never
-  std::filesystem::path output;    // .stl .3mf .obj .ply; with several iso levels OUT-isoC.ext per level
-  std::string mode = "shell";  // shell (wall of its own, pores straight through) | narrow-volume (Fig. 3b)
-  double wall = 0.0;           // shell wall thickness in mm; 0: the band's width 2 delta = 3.81 h
+  // Fast solver: where epsilon spans 2 eps_4 or more, form the pattern on the grid where it spans eps_4
+  // and carry it here (coarse_start.hpp).
+  bool coarse_start = true;
+  int energy_every = 0;          // evaluate the energy (3.2) every K steps and at the end; 0: never
+  std::filesystem::path output;  // .stl .3mf .obj .ply; with several iso levels OUT-isoC.ext per level
+  std::string mode = "shell";    // shell (wall of its own, pores straight through) | narrow-volume (Fig. 3b)
+  double wall = 0.0;             // shell wall thickness in mm; 0: the band's width 2 delta = 3.81 h
   std::string offset = "centered";  // shell wall: centered on the surface, inside or outside it
   std::int64_t max_triangles = 0;   // reduce each output to at most this many triangles; 0: as meshed
   double max_deviation = 0.05;      // mm: how far the reduced surface may lie from the meshed one
@@ -113,9 +117,10 @@ struct PipelineResult {
   std::optional<GradingSummary> grading;  // when graded
   std::string solver_name;
   std::string inner_iteration;
-  RunResult run;
-  SpotStats spots;                      // at phi > 0
-  std::int64_t unperforated_euler = 0;  // chi of the solid without pores
+  RunResult run;                            // on this grid
+  std::optional<CoarseLevel> coarse_start;  // the run on the pattern's grid before it, if any
+  SpotStats spots;                          // at phi > 0
+  std::int64_t unperforated_euler = 0;      // chi of the solid without pores
   SolidSummary solid;
   std::vector<MeshOutput> meshes;
   double seconds_input = 0.0, seconds_band = 0.0, seconds_solve = 0.0, seconds_mesh = 0.0,

@@ -62,6 +62,18 @@ nlohmann::json to_json(const PipelineResult& r) {
   mesh["unperforated_euler_characteristic"] = r.unperforated_euler;
   json energy_trace = json::array();
   for (const auto& [step, e] : r.run.energy_trace) energy_trace.push_back({step, e});
+  json coarse_start = nullptr;  // no coarse start
+  if (const auto& c = r.coarse_start)
+    coarse_start = {{"grid", c->dims},
+                    {"h_mm", c->h * mm_per_grid},
+                    {"band_voxels", c->band_voxels},
+                    {"steps", c->run.steps},
+                    {"final_ec", c->run.final_ec},
+                    {"reached_tolerance", c->run.reached_tolerance},
+                    {"inner_iterations", c->run.inner_iterations},
+                    {"repeated_steps", c->run.repeated_steps},
+                    {"spots", c->spots},
+                    {"seconds", c->seconds}};
   return {
       {"input",
        {{"kind", r.input.kind},
@@ -114,6 +126,7 @@ nlohmann::json to_json(const PipelineResult& r) {
         {"inner_converged", r.run.inner_converged},
         {"inner_iterations", r.run.inner_iterations},
         {"repeated_steps", r.run.repeated_steps},
+        {"coarse_start", coarse_start},
         {"energy", {{"first", r.run.energy_first}, {"last", r.run.energy_last}, {"trace", energy_trace}}}}},
       {"pattern",
        {{"spots", r.spots.count},

@@ -17,6 +17,7 @@ struct StepProgress {
   double ec = 0.0;
   double energy = 0.0;  // NaN when not evaluated at this step
   StepReport inner;
+  bool coarse = false;  // a step of the coarse start's run (coarse_start.hpp)
 };
 
 struct RunOptions {
