@@ -244,7 +244,7 @@ int run(int argc, char** argv) {
   std::string coarse_start = "auto";
   app.add_option(
          "--coarse-start", coarse_start,
-         "fast solver: auto forms the pattern on a coarser grid first where epsilon spans 2 eps_4 "
+         "fast solver: auto forms the pattern on a coarser grid first where epsilon spans 1.8 eps_4 "
          "or more (fine voxels for large pores), then relaxes it here; off solves here from the start")
       ->check(CLI::IsMember({"auto", "off"}))
       ->capture_default_str();

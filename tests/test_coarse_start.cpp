@@ -41,11 +41,12 @@ CoarseStartOptions options_with_seed(std::uint64_t seed) {
 
 }  // namespace
 
-TEST(CoarseStart, OnlyWhereTheInterfaceSpansTwiceItsOwnGrid) {
+TEST(CoarseStart, OnlyWhereTheInterfaceSpansAboutTwiceItsOwnGrid) {
   const std::unique_ptr<Surface> sphere = make_paper_shape("sphere");
   const double h = 1.0 / 96;
   EXPECT_FALSE(pattern_grid(*sphere, h, epsilon_m(4.0, h)));  // the paper's grid is the pattern's
-  EXPECT_FALSE(pattern_grid(*sphere, h, epsilon_m(7.9, h)));
+  EXPECT_FALSE(pattern_grid(*sphere, h, epsilon_m(7.1, h)));
+  EXPECT_TRUE(pattern_grid(*sphere, h, epsilon_m(7.3, h)));
   const std::optional<Grid> grid = pattern_grid(*sphere, h, epsilon_m(8.0, h));
   ASSERT_TRUE(grid);
   EXPECT_NEAR(grid->h(), 2.0 * h, 1e-12);

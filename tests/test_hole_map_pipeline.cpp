@@ -135,6 +135,32 @@ TEST(HoleMapPipeline, OpenCylinderWithRimGivesTheAskedHolesAndWallReducedToATria
   }
 }
 
+// Voxels half the map's size (a smoother surface): the pattern is formed on the map's grid and carried
+// (the coarse start), with the rim's solid zone on both grids; the holes are the asked ones.
+TEST(HoleMapPipeline, FinerVoxelsKeepTheHolesAndTheRimThroughTheCoarseStart) {
+  const TempDir dir;
+  PipelineConfig c;
+  c.mesh = write_open_cylinder(dir.path(), 25.0, 60.0);
+  c.holes = {5.0, 8.0, 0.0};
+  c.voxel_size = 0.5 * plan_pattern(c.holes).voxel_size;
+  c.wall = 1.5;
+  c.rim_mm = 2.0;
+  c.output = dir / "cylinder.stl";
+  const PipelineResult r = run_pipeline(c);
+  ASSERT_TRUE(r.coarse_start);
+  EXPECT_NEAR(r.coarse_start->h, 2.0 * r.h, 0.02 * r.h);
+  EXPECT_TRUE(r.run.reached_tolerance);
+  EXPECT_LE(r.run.steps * 5, r.coarse_start->run.steps);
+  const MeshOutput& out = r.meshes.front();
+  EXPECT_LT(relative_error(out.holes.diameter_mean, 5.0), 0.15) << out.holes.diameter_mean;
+  EXPECT_LT(relative_error(out.holes.spacing_mean, 8.0), 0.15) << out.holes.spacing_mean;
+  expect_holes_are_tunnels(out);
+  for (const Hole& hole : out.holes.holes) {  // the rim held on both grids
+    EXPECT_GT(hole.centroid.z() - hole.diameter / 2, 2.0 - 0.5);
+    EXPECT_LT(hole.centroid.z() + hole.diameter / 2, 60.0 - 2.0 + 0.5);
+  }
+}
+
 TEST(HoleMapPipeline, GradedHolesGrowAlongTheAxisAndNeverMerge) {
   const TempDir dir;
   PipelineConfig c;

@@ -18,10 +18,10 @@
 
 namespace poreshell {
 
-// A fine grid with at least this many times the pattern grid's spacing starts coarse (an eighth of the
-// band voxels or fewer per coarse voxel pays for the carried state's relaxation; measured in
-// docs/solver.md).
-inline constexpr double kCoarseStartMinRatio = 2.0;
+// A fine grid about twice as fine as the pattern's or finer starts coarse: the coarse band then has a
+// quarter of the voxels or fewer. 1.8, not 2: half the hole map's voxel size, rounded to whole cells
+// along the model, comes out a little under 2.
+inline constexpr double kCoarseStartMinRatio = 1.8;
 
 // The grid on which epsilon spans eps_4, around `surface`; nothing when the fine spacing h is within
 // kCoarseStartMinRatio of it (the fine grid is the pattern's own).

@@ -315,6 +315,78 @@ auto with_narrow_volume_field(const NarrowBand& band, std::span<const double> ph
   return use(SparseField{&band.grid(), points, values, 1.0});
 }
 
+// The solve stage: the model on this grid, the initial state (or the coarse start's carried pattern),
+// the run to the steady state. Returns phi on the band.
+std::vector<double> solve_pattern(const PipelineConfig& config, const PlacedSurface& placed, const Grid& grid,
+                                  const NarrowBand& band, PipelineResult& result) {
+  set_model(config, placed, grid, result);
+  const auto t = std::chrono::steady_clock::now();
+  // The initial state on a band: noise about phi_bar, solid zones (rims along open boundaries, keep-out
+  // spheres and masks) solid and held there by a local mean concentration.
+  const auto level_start = [&](const NarrowBand& b) {
+    LevelStart s;
+    const std::vector<double> weight = solid_zones(config, placed, b, result.model.epsilon);
+    s.phi = random_initial_condition(b, result.model.phi_bar, config.amplitude, config.seed);
+    for (std::size_t v = 0; v < weight.size(); ++v) s.phi[v] = (1.0 - weight[v]) * s.phi[v] - weight[v];
+    if (!weight.empty()) s.mean_field = mean_concentration_field(weight, result.model.phi_bar);
+    return s;
+  };
+  LevelStart fine_start = level_start(band);
+  std::vector<double>& phi = fine_start.phi;
+  RunOptions run_options;
+  run_options.max_steps = config.max_steps;
+  run_options.tolerance = config.tolerance;
+  run_options.energy_every = config.energy_every;
+  // Separated phases span about [-1, 1]; the decayed noise of the quiet phase spans far less.
+  if (uniform_state_unstable(result.model.alpha, result.model.epsilon, result.model.phi_bar))
+    run_options.min_spread = 1.0;
+  run_options.on_step = config.on_step;
+  const std::optional<Grid> coarse_grid = config.solver == "fast" && config.coarse_start
+                                              ? pattern_grid(*placed.surface, grid.h(), result.model.epsilon)
+                                              : std::nullopt;
+  if (coarse_grid) {
+    CoarseStartOptions coarse{level_start, run_options, config.fast};
+    coarse.run.energy_every = 0;
+    if (config.on_step)
+      coarse.run.on_step = [&](const StepProgress& p) {
+        StepProgress tagged = p;
+        tagged.coarse = true;
+        config.on_step(tagged);
+      };
+    result.coarse_start.emplace();
+    phi = coarse_start(*placed.surface, *coarse_grid, band, result.model, result.dt, coarse,
+                       *result.coarse_start);
+    release_free_memory();
+  }
+  std::unique_ptr<TimeStepper> solver;
+  if (config.solver == "reference") {
+    solver = std::make_unique<ReferenceSolver>(band, result.model, result.dt, config.inner);
+    result.inner_iteration = to_string(config.inner.method);
+  } else {
+    auto fast = std::make_unique<FastSolver>(band, result.model, result.dt, config.fast);
+    if (!fine_start.mean_field.empty()) fast->set_mean_field(std::move(fine_start.mean_field));
+    result.solver_bytes = fast->memory_bytes();
+    solver = std::move(fast);
+    result.inner_iteration = "multigrid";
+  }
+  result.solver_name = solver->name();
+  // The energy's Poisson factorisation costs about 6 s at 73k band voxels and 70 s / 2 GB at 290k:
+  // --energy-every 0 skips it for large runs.
+  std::optional<EnergyFunctional> energy;
+  if (config.energy_every > 0) energy.emplace(band, result.model);
+  result.run = run_to_steady_state(*solver, phi, energy ? &*energy : nullptr, run_options);
+  // The solver's hierarchy and the energy's factorisation are done with: free them before meshing,
+  // the stage with the largest footprint.
+  solver.reset();
+  energy.reset();
+  release_free_memory();
+  result.seconds_solve = seconds_since(t);
+  result.peak_rss_after_solve = peak_rss_bytes();
+  if (!std::isfinite(result.run.final_ec))
+    throw std::runtime_error("the solver diverged (non-finite values)");
+  return std::move(phi);
+}
+
 }  // namespace
 
 TriangleMesh narrow_volume_mesh(const NarrowBand& band, std::span<const double> phi, double iso) {
@@ -386,71 +458,7 @@ PipelineResult run_pipeline(const PipelineConfig& given) {
   result.band_stats = band.stats();
   result.band_bytes = band.memory_bytes();
 
-  set_model(config, placed, grid, result);
-  t = std::chrono::steady_clock::now();
-  // The initial state on a band: noise about phi_bar, solid zones (rims along open boundaries, keep-out
-  // spheres and masks) solid and held there by a local mean concentration.
-  const auto level_start = [&](const NarrowBand& b) {
-    LevelStart s;
-    const std::vector<double> weight = solid_zones(config, placed, b, result.model.epsilon);
-    s.phi = random_initial_condition(b, result.model.phi_bar, config.amplitude, config.seed);
-    for (std::size_t v = 0; v < weight.size(); ++v) s.phi[v] = (1.0 - weight[v]) * s.phi[v] - weight[v];
-    if (!weight.empty()) s.mean_field = mean_concentration_field(weight, result.model.phi_bar);
-    return s;
-  };
-  LevelStart fine_start = level_start(band);
-  std::vector<double>& phi = fine_start.phi;
-  RunOptions run_options;
-  run_options.max_steps = config.max_steps;
-  run_options.tolerance = config.tolerance;
-  run_options.energy_every = config.energy_every;
-  // Separated phases span about [-1, 1]; the decayed noise of the quiet phase spans far less.
-  if (uniform_state_unstable(result.model.alpha, result.model.epsilon, result.model.phi_bar))
-    run_options.min_spread = 1.0;
-  run_options.on_step = config.on_step;
-  const std::optional<Grid> coarse_grid = config.solver == "fast" && config.coarse_start
-                                              ? pattern_grid(*placed.surface, grid.h(), result.model.epsilon)
-                                              : std::nullopt;
-  if (coarse_grid) {
-    CoarseStartOptions coarse{level_start, run_options, config.fast};
-    coarse.run.energy_every = 0;
-    if (config.on_step)
-      coarse.run.on_step = [&](const StepProgress& p) {
-        StepProgress tagged = p;
-        tagged.coarse = true;
-        config.on_step(tagged);
-      };
-    result.coarse_start.emplace();
-    phi = coarse_start(*placed.surface, *coarse_grid, band, result.model, result.dt, coarse,
-                       *result.coarse_start);
-    release_free_memory();
-  }
-  std::unique_ptr<TimeStepper> solver;
-  if (config.solver == "reference") {
-    solver = std::make_unique<ReferenceSolver>(band, result.model, result.dt, config.inner);
-    result.inner_iteration = to_string(config.inner.method);
-  } else {
-    auto fast = std::make_unique<FastSolver>(band, result.model, result.dt, config.fast);
-    if (!fine_start.mean_field.empty()) fast->set_mean_field(std::move(fine_start.mean_field));
-    result.solver_bytes = fast->memory_bytes();
-    solver = std::move(fast);
-    result.inner_iteration = "multigrid";
-  }
-  result.solver_name = solver->name();
-  // The energy's Poisson factorisation costs about 6 s at 73k band voxels and 70 s / 2 GB at 290k:
-  // --energy-every 0 skips it for large runs.
-  std::optional<EnergyFunctional> energy;
-  if (config.energy_every > 0) energy.emplace(band, result.model);
-  result.run = run_to_steady_state(*solver, phi, energy ? &*energy : nullptr, run_options);
-  // The solver's hierarchy and the energy's factorisation are done with: free them before meshing,
-  // the stage with the largest footprint.
-  solver.reset();
-  energy.reset();
-  release_free_memory();
-  result.seconds_solve = seconds_since(t);
-  result.peak_rss_after_solve = peak_rss_bytes();
-  if (!std::isfinite(result.run.final_ec))
-    throw std::runtime_error("the solver diverged (non-finite values)");
+  std::vector<double> phi = solve_pattern(config, placed, grid, band, result);
   result.spots = spot_statistics(band, phi, 0.0);
 
   // Build and check every mesh before writing any, so a failed check leaves no output at all.

@@ -54,7 +54,7 @@ struct PipelineConfig {
   std::string solver = "fast";     // fast (docs/solver.md) | reference (the paper's scheme, relaxation)
   InnerOptions inner;              // reference solver
   FastOptions fast;                // fast solver
-  // Fast solver: where epsilon spans 2 eps_4 or more, form the pattern on the grid where it spans eps_4
+  // Fast solver: where epsilon spans 1.8 eps_4 or more, form the pattern on the grid where it spans eps_4
   // and carry it here (coarse_start.hpp).
   bool coarse_start = true;
   int energy_every = 0;          // evaluate the energy (3.2) every K steps and at the end; 0: never
