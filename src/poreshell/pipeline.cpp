@@ -322,17 +322,17 @@ std::vector<double> solve_pattern(const PipelineConfig& config, const PlacedSurf
   set_model(config, placed, grid, result);
   const auto t = std::chrono::steady_clock::now();
   // The initial state on a band: noise about phi_bar, solid zones (rims along open boundaries, keep-out
-  // spheres and masks) solid and held there by a local mean concentration.
-  const auto level_start = [&](const NarrowBand& b) {
+  // spheres and masks) solid and held there by a local mean concentration. Without noise: the mean
+  // field alone, for a band that starts from a carried pattern.
+  const auto level_start = [&](const NarrowBand& b, bool noise) {
     LevelStart s;
     const std::vector<double> weight = solid_zones(config, placed, b, result.model.epsilon);
+    if (!weight.empty()) s.mean_field = mean_concentration_field(weight, result.model.phi_bar);
+    if (!noise) return s;
     s.phi = random_initial_condition(b, result.model.phi_bar, config.amplitude, config.seed);
     for (std::size_t v = 0; v < weight.size(); ++v) s.phi[v] = (1.0 - weight[v]) * s.phi[v] - weight[v];
-    if (!weight.empty()) s.mean_field = mean_concentration_field(weight, result.model.phi_bar);
     return s;
   };
-  LevelStart fine_start = level_start(band);
-  std::vector<double>& phi = fine_start.phi;
   RunOptions run_options;
   run_options.max_steps = config.max_steps;
   run_options.tolerance = config.tolerance;
@@ -344,8 +344,10 @@ std::vector<double> solve_pattern(const PipelineConfig& config, const PlacedSurf
   const std::optional<Grid> coarse_grid = config.solver == "fast" && config.coarse_start
                                               ? pattern_grid(*placed.surface, grid.h(), result.model.epsilon)
                                               : std::nullopt;
+  LevelStart fine_start = level_start(band, !coarse_grid);
   if (coarse_grid) {
-    CoarseStartOptions coarse{level_start, run_options, config.fast};
+    CoarseStartOptions coarse{[&](const NarrowBand& b) { return level_start(b, true); }, run_options,
+                              config.fast};
     coarse.run.energy_every = 0;
     if (config.on_step)
       coarse.run.on_step = [&](const StepProgress& p) {
@@ -354,10 +356,11 @@ std::vector<double> solve_pattern(const PipelineConfig& config, const PlacedSurf
         config.on_step(tagged);
       };
     result.coarse_start.emplace();
-    phi = coarse_start(*placed.surface, *coarse_grid, band, result.model, result.dt, coarse,
-                       *result.coarse_start);
+    fine_start.phi = coarse_start(*placed.surface, *coarse_grid, band, result.model, result.dt, coarse,
+                                  *result.coarse_start);
     release_free_memory();
   }
+  std::vector<double>& phi = fine_start.phi;
   std::unique_ptr<TimeStepper> solver;
   if (config.solver == "reference") {
     solver = std::make_unique<ReferenceSolver>(band, result.model, result.dt, config.inner);
