@@ -2,10 +2,13 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
+#include <span>
 
 #include "poreshell/band_scan.hpp"
 #include "poreshell/error.hpp"
@@ -88,6 +91,57 @@ Vec3 closest_point_of(const NearField& near, const Surface& surface, const Grid&
     if (!std::isnan(cp.x())) return cp;
   }
   return closest_point_at(surface, grid, c, rule);
+}
+
+// Voxels per task in the passes over all band voxels below.
+constexpr std::size_t kVoxelGrain = 1 << 14;
+
+// For each voxel v (sorted keys) and neighbour direction o: the band index of key_v + delta_o, or -1.
+// The shifted keys are sorted too, so each task walks the key array forward once per direction instead
+// of a binary search per neighbour (36 M serial searches at 6 M voxels were a third of the band's
+// build). Band voxels keep off the grid's edge (checked first), so key +- 1 is the x-neighbour.
+void band_neighbours(std::span<const std::int64_t> keys, const Grid& grid, std::vector<std::int32_t>& table) {
+  const std::int64_t nx = grid.dims()[0], nxy = nx * grid.dims()[1];
+  const std::array<std::int64_t, NarrowBand::kNeighbors> deltas{-1, 1, -nx, nx, -nxy, nxy};
+  table = std::vector<std::int32_t>(keys.size() * NarrowBand::kNeighbors);  // exact size: kept by the band
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, keys.size(), kVoxelGrain),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (int o = 0; o < NarrowBand::kNeighbors; ++o) {
+                        const std::int64_t d = deltas[static_cast<std::size_t>(o)];
+                        auto at = std::lower_bound(keys.begin(), keys.end(), keys[r.begin()] + d);
+                        for (std::size_t v = r.begin(); v != r.end(); ++v) {
+                          const std::int64_t target = keys[v] + d;
+                          while (at != keys.end() && *at < target) ++at;
+                          table[v * NarrowBand::kNeighbors + static_cast<std::size_t>(o)] =
+                              at != keys.end() && *at == target ? static_cast<std::int32_t>(at - keys.begin())
+                                                                : -1;
+                        }
+                      }
+                    });
+}
+
+// The keys of the grid points next to the band that are not band voxels (the ghosts), ascending.
+std::vector<std::int64_t> ghost_keys_of(std::span<const std::int64_t> keys, const Grid& grid,
+                                        std::span<const std::int32_t> table) {
+  const std::int64_t nx = grid.dims()[0], nxy = nx * grid.dims()[1];
+  const std::array<std::int64_t, NarrowBand::kNeighbors> deltas{-1, 1, -nx, nx, -nxy, nxy};
+  const std::size_t tasks = (keys.size() + kVoxelGrain - 1) / kVoxelGrain;
+  std::vector<std::vector<std::int64_t>> per_task(tasks);
+  tbb::parallel_for(std::size_t{0}, tasks, [&](std::size_t t) {
+    const std::size_t end = std::min(keys.size(), (t + 1) * kVoxelGrain);
+    for (std::size_t v = t * kVoxelGrain; v < end; ++v)
+      for (std::size_t o = 0; o < NarrowBand::kNeighbors; ++o)
+        if (table[v * NarrowBand::kNeighbors + o] < 0) per_task[t].push_back(keys[v] + deltas[o]);
+    std::sort(per_task[t].begin(), per_task[t].end());
+  });
+  std::vector<std::int64_t> ghosts;
+  for (auto& part : per_task) {
+    ghosts.insert(ghosts.end(), part.begin(), part.end());
+    part = {};
+  }
+  std::sort(ghosts.begin(), ghosts.end());
+  ghosts.erase(std::unique(ghosts.begin(), ghosts.end()), ghosts.end());
+  return ghosts;
 }
 
 }  // namespace
@@ -245,16 +299,13 @@ NarrowBand build_band(const Surface& surface, const Grid& grid, const BandOption
     band.voxels_.resize(keys.size());
     for (std::size_t v = 0; v < keys.size(); ++v) band.voxels_[v] = grid.coord(keys[v]);
 
-    std::vector<std::int64_t> ghost_keys;
-    for (const Coord& c : band.voxels_)
-      for (const Coord& o : kOffsets) {
-        const Coord nb = add(c, o);
-        if (!grid.contains(nb))
-          throw InputError("the narrow band touches the edge of the grid: enlarge the domain or add padding");
-        if (band.find(nb) < 0) ghost_keys.push_back(grid.key(nb));
-      }
-    std::sort(ghost_keys.begin(), ghost_keys.end());
-    ghost_keys.erase(std::unique(ghost_keys.begin(), ghost_keys.end()), ghost_keys.end());
+    const auto& d = grid.dims();
+    if (std::any_of(band.voxels_.begin(), band.voxels_.end(), [&](const Coord& c) {
+          return c.i <= 0 || c.j <= 0 || c.k <= 0 || c.i >= d[0] - 1 || c.j >= d[1] - 1 || c.k >= d[2] - 1;
+        }))
+      throw InputError("the narrow band touches the edge of the grid: enlarge the domain or add padding");
+    band_neighbours(band.keys_, grid, band.neighbors_);
+    std::vector<std::int64_t> ghost_keys = ghost_keys_of(band.keys_, grid, band.neighbors_);
     const auto even = std::stable_partition(ghost_keys.begin(), ghost_keys.end(),
                                             [&](std::int64_t key) { return parity(grid.coord(key)) == 0; });
     band.odd_ghosts_begin_ = static_cast<std::size_t>(even - ghost_keys.begin());
@@ -298,31 +349,36 @@ NarrowBand build_band(const Surface& surface, const Grid& grid, const BandOption
     std::sort(keys.begin(), keys.end());
   }
 
-  band.neighbors_.resize(band.voxels_.size() * NarrowBand::kNeighbors);
+  // The neighbour table holds band indices from the last round; ghosts by their parity's key order.
   const auto n = static_cast<std::int64_t>(band.voxels_.size());
   tbb::parallel_for(std::size_t{0}, band.voxels_.size(), [&](std::size_t v) {
     for (int o = 0; o < NarrowBand::kNeighbors; ++o) {
-      const Coord nb = add(band.voxels_[v], kOffsets[o]);
-      std::int64_t idx = band.find(nb);
-      if (idx < 0) {
-        const auto [begin, end] = band.ghosts_of_parity(parity(nb));
-        const auto first = band.ghosts_.begin() + static_cast<std::ptrdiff_t>(begin);
-        const auto it =
-            std::lower_bound(first, band.ghosts_.begin() + static_cast<std::ptrdiff_t>(end), grid.key(nb),
-                             [&](const Coord& a, std::int64_t b) { return grid.key(a) < b; });
-        idx = n + (it - band.ghosts_.begin());
-      }
-      band.neighbors_[v * NarrowBand::kNeighbors + o] = static_cast<std::int32_t>(idx);
+      std::int32_t& idx = band.neighbors_[v * NarrowBand::kNeighbors + static_cast<std::size_t>(o)];
+      if (idx >= 0) continue;
+      const Coord nb = add(band.voxels_[v], kOffsets[static_cast<std::size_t>(o)]);
+      const auto [begin, end] = band.ghosts_of_parity(parity(nb));
+      const auto first = band.ghosts_.begin() + static_cast<std::ptrdiff_t>(begin);
+      const auto it =
+          std::lower_bound(first, band.ghosts_.begin() + static_cast<std::ptrdiff_t>(end), grid.key(nb),
+                           [&](const Coord& a, std::int64_t b) { return grid.key(a) < b; });
+      idx = static_cast<std::int32_t>(n + (it - band.ghosts_.begin()));
     }
   });
 
   // The paper's ghost set is { I |grad_h I| != 0 }: ghosts with an unbalanced band neighbour pair.
-  for (const Coord& g : band.ghosts_) {
-    bool paper = false;
-    for (int a = 0; a < 3; ++a)
-      paper |= (band.find(add(g, kOffsets[2 * a])) >= 0) != (band.find(add(g, kOffsets[2 * a + 1])) >= 0);
-    band.stats_.paper_ghosts += paper;
-  }
+  band.stats_.paper_ghosts = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, band.ghosts_.size(), kVoxelGrain), std::int64_t{0},
+      [&](const tbb::blocked_range<std::size_t>& r, std::int64_t count) {
+        for (std::size_t g = r.begin(); g != r.end(); ++g) {
+          bool paper = false;
+          for (std::size_t a = 0; a < 3; ++a)
+            paper |= (band.find(add(band.ghosts_[g], kOffsets[2 * a])) >= 0) !=
+                     (band.find(add(band.ghosts_[g], kOffsets[2 * a + 1])) >= 0);
+          count += paper;
+        }
+        return count;
+      },
+      std::plus<>());
 
   band.distance_.resize(band.voxels_.size());
   band.closest_point_offsets_.resize(band.voxels_.size());
