@@ -28,6 +28,9 @@ PointTree::PointTree(const std::vector<Vec3>& points, std::vector<double> radii)
   nodes_.reserve(2 * points_.size() / kLeafSize + 2);
   nodes_.emplace_back();
   build(0, 0, static_cast<std::int32_t>(order_.size()));
+  leaf_points_.resize(points_.size());
+  for (std::size_t s = 0; s < order_.size(); ++s)
+    leaf_points_[s] = points_[static_cast<std::size_t>(order_[s])];
 }
 
 void PointTree::build(std::int32_t node, std::int32_t begin, std::int32_t end) {
@@ -66,7 +69,9 @@ void PointTree::build(std::int32_t node, std::int32_t begin, std::int32_t end) {
 }
 
 std::pair<std::size_t, double> PointTree::nearest(const Vec3& x) const {
-  return closest(x, [&](std::size_t i) { return (points_[i] - x).norm(); });
+  const auto [slot, d] =
+      closest_slot(x, [&](std::int32_t s) { return (leaf_points_[static_cast<std::size_t>(s)] - x).norm(); });
+  return {item(slot), d};
 }
 
 std::vector<std::size_t> PointTree::k_nearest(const Vec3& x, std::size_t k) const {

@@ -42,6 +42,13 @@ class PointTree {
     std::int32_t count = 0;  // leaf: number of items; inner: 0
   };
   void build(std::int32_t node, std::int32_t begin, std::int32_t end);
+  // The item in leaf slot s (-1: none, ordered after every item).
+  std::size_t item(std::int32_t s) const {
+    return s < 0 ? std::numeric_limits<std::size_t>::max()
+                 : static_cast<std::size_t>(order_[static_cast<std::size_t>(s)]);
+  }
+  template <class F>
+  std::pair<std::int32_t, double> closest_slot(const Vec3& x, F&& slot_distance) const;
   double bound(const Node& n, const Vec3& x) const {
     const Vec3 d = (n.lo - x).cwiseMax(x - n.hi).cwiseMax(0.0);
     return d.norm() - n.radius;
@@ -50,6 +57,7 @@ class PointTree {
   std::vector<Vec3> points_;
   std::vector<double> radii_;
   std::vector<std::int32_t> order_;  // item indices in leaf order
+  std::vector<Vec3> leaf_points_;    // points in leaf order: a leaf's points in one run of memory
   std::vector<Node> nodes_;
 };
 
@@ -87,7 +95,13 @@ class SplatSurface final : public Surface {
 
 template <class F>
 std::pair<std::size_t, double> PointTree::closest(const Vec3& x, F&& item_distance) const {
-  std::size_t best = std::numeric_limits<std::size_t>::max();
+  const auto [slot, d] = closest_slot(x, [&](std::int32_t s) { return item_distance(item(s)); });
+  return {item(slot), d};
+}
+
+template <class F>
+std::pair<std::int32_t, double> PointTree::closest_slot(const Vec3& x, F&& slot_distance) const {
+  std::int32_t best = -1;
   double best_d = std::numeric_limits<double>::infinity();
   std::int32_t stack[128];  // depth <= 31 for 2^31 points, two entries a level
   int top = 0;
@@ -97,11 +111,10 @@ std::pair<std::size_t, double> PointTree::closest(const Vec3& x, F&& item_distan
     if (bound(n, x) > best_d) continue;
     if (n.count > 0) {
       for (std::int32_t s = n.first; s < n.first + n.count; ++s) {
-        const auto i = static_cast<std::size_t>(order_[static_cast<std::size_t>(s)]);
-        const double d = item_distance(i);
-        if (d < best_d || (d == best_d && i < best)) {
+        const double d = slot_distance(s);
+        if (d < best_d || (d == best_d && item(s) < item(best))) {
           best_d = d;
-          best = i;
+          best = s;
         }
       }
       continue;
