@@ -255,10 +255,7 @@ void NarrowBand::fill_ghosts(std::span<float> extended, int parity) const {
 
 std::vector<Vec3> NarrowBand::closest_points() const {
   std::vector<Vec3> cps(voxels_.size());
-  for (std::size_t v = 0; v < cps.size(); ++v) {
-    const auto& o = closest_point_offsets_[v];
-    cps[v] = grid_.position(voxels_[v]) + grid_.h() * Vec3(o[0], o[1], o[2]);
-  }
+  for (std::size_t v = 0; v < cps.size(); ++v) cps[v] = closest_point(v);
   return cps;
 }
 

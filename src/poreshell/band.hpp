@@ -79,6 +79,10 @@ class NarrowBand {
   // cp(x) of each band voxel by the band's closest-point rule, for the multigrid's transfers. Kept as
   // float offsets from the voxel in units of h (12 bytes a voxel; the transfers are float).
   std::vector<Vec3> closest_points() const;
+  Vec3 closest_point(std::size_t v) const {
+    const auto& o = closest_point_offsets_[v];
+    return grid_.position(voxels_[v]) + grid_.h() * Vec3(o[0], o[1], o[2]);
+  }
   // Neighbour n of band voxel v: an index into the extended array (< size(): band; else ghost).
   std::int32_t neighbor(std::size_t v, int n) const { return neighbors_[v * kNeighbors + n]; }
   std::span<const std::int32_t> neighbor_table() const { return neighbors_; }

@@ -6,7 +6,6 @@
 #include <cmath>
 
 #include "poreshell/pattern.hpp"
-#include "poreshell/shell.hpp"
 
 namespace poreshell {
 
@@ -36,10 +35,10 @@ std::vector<double> coarse_start(const Surface& surface, const Grid& grid, const
 
   // Each fine voxel takes the coarse pattern's value at its closest point. The surface lies inside the
   // coarse band, more than a cell from its edge, so every stencil is complete.
-  const std::vector<Vec3> points = fine.closest_points();
   std::vector<double> phi(fine.size());
-  tbb::parallel_for(std::size_t{0}, fine.size(),
-                    [&](std::size_t v) { phi[v] = interpolate_band(coarse, level.phi, points[v], nullptr); });
+  tbb::parallel_for(std::size_t{0}, fine.size(), [&](std::size_t v) {
+    phi[v] = interpolation_stencil(coarse, fine.closest_point(v)).interpolate(level.phi);
+  });
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return phi;
 }
