@@ -68,10 +68,43 @@ void PointTree::build(std::int32_t node, std::int32_t begin, std::int32_t end) {
   build(left + 1, mid, end);
 }
 
+// The closest-slot search without radii, in squared distances, each node's bound computed once (kept on
+// the stack with it): the multigrid's coarse bands make millions of these queries.
 std::pair<std::size_t, double> PointTree::nearest(const Vec3& x) const {
-  const auto [slot, d] =
-      closest_slot(x, [&](std::int32_t s) { return (leaf_points_[static_cast<std::size_t>(s)] - x).norm(); });
-  return {item(slot), d};
+  const auto squared_bound = [&](const Node& n) {
+    return (n.lo - x).cwiseMax(x - n.hi).cwiseMax(0.0).squaredNorm();
+  };
+  std::int32_t best = -1;
+  double best_d2 = std::numeric_limits<double>::infinity();
+  std::pair<std::int32_t, double> stack[128];  // depth <= 31 for 2^31 points, two entries a level
+  int top = 0;
+  stack[top++] = {0, squared_bound(nodes_[0])};
+  while (top > 0) {
+    const auto [index, node_d2] = stack[--top];
+    if (node_d2 > best_d2) continue;
+    const Node& n = nodes_[static_cast<std::size_t>(index)];
+    if (n.count > 0) {
+      for (std::int32_t s = n.first; s < n.first + n.count; ++s) {
+        const double d2 = (leaf_points_[static_cast<std::size_t>(s)] - x).squaredNorm();
+        if (d2 < best_d2 || (d2 == best_d2 && item(s) < item(best))) {
+          best_d2 = d2;
+          best = s;
+        }
+      }
+      continue;
+    }
+    // Nearer child last, so it is popped first.
+    const double bl = squared_bound(nodes_[static_cast<std::size_t>(n.first)]);
+    const double br = squared_bound(nodes_[static_cast<std::size_t>(n.first + 1)]);
+    if (bl < br) {
+      stack[top++] = {n.first + 1, br};
+      stack[top++] = {n.first, bl};
+    } else {
+      stack[top++] = {n.first, bl};
+      stack[top++] = {n.first + 1, br};
+    }
+  }
+  return {item(best), std::sqrt(best_d2)};
 }
 
 std::vector<std::size_t> PointTree::k_nearest(const Vec3& x, std::size_t k) const {
