@@ -325,7 +325,7 @@ NarrowBand build_band(const Surface& surface, const Grid& grid, const BandOption
                        static_cast<int>(std::floor(q.z()))};
       const Vec3 t = q - Vec3(base.i, base.j, base.k);
       GhostStencil& s = band.stencils_[g];
-      s.t = {t.x(), t.y(), t.z()};
+      s.t = {static_cast<float>(t.x()), static_cast<float>(t.y()), static_cast<float>(t.z())};
       for (int corner = 0; corner < 8; ++corner) {
         const Coord cc{base.i + (corner & 1), base.j + ((corner >> 1) & 1), base.k + (corner >> 2)};
         const std::int64_t idx = band.find(cc);

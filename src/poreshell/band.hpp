@@ -31,15 +31,17 @@ struct BandOptions {
 
 // The trilinear stencil at a ghost's closest point. Corner c = di + 2 dj + 4 dk of the cell is the band
 // voxel row[dj + 2 dk] + di: keys are sorted and (i + 1, j, k) has the next key, so the x-neighbour is
-// the next band index. 40 bytes instead of 96 for 8 indices and weights: the stencils are streamed on
-// every ghost refresh, the solvers' most frequent pass.
+// the next band index. 28 bytes instead of 96 for 8 indices and weights: the stencils are streamed on
+// every ghost refresh, the solvers' most frequent pass. The fractions are float: the stencil is then exact
+// at a point within 2^-24 cells of cp(x), far below the scheme's O(h^2), for 12 bytes less per ghost.
 struct GhostStencil {
   std::array<std::int32_t, 4> row{};  // band index of corner (0, dj, dk)
-  std::array<double, 3> t{};          // cp's position in its cell, per axis in [0, 1]
+  std::array<float, 3> t{};           // cp's position in its cell, per axis in [0, 1]
 
   std::int32_t corner(int c) const { return row[c >> 1] + (c & 1); }
   double weight(int c) const {
-    return ((c & 1) ? t[0] : 1 - t[0]) * ((c & 2) ? t[1] : 1 - t[1]) * ((c & 4) ? t[2] : 1 - t[2]);
+    const double x = t[0], y = t[1], z = t[2];
+    return ((c & 1) ? x : 1 - x) * ((c & 2) ? y : 1 - y) * ((c & 4) ? z : 1 - z);
   }
   template <class T>
   T interpolate(const T* values) const {
