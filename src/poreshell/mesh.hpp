@@ -30,8 +30,8 @@ struct MeshTopology {
   bool oriented() const { return misoriented_edges == 0; }
 };
 
-// edge_table_bytes bounds the edge table (16 bytes per triangle side): larger meshes are checked in
-// several passes over vertex ranges, with the same result.
-MeshTopology analyze_topology(const TriangleMesh& mesh, std::size_t edge_table_bytes = std::size_t{64} << 20);
+// Throws std::out_of_range for a vertex index outside the mesh. The result does not depend on the order
+// of the triangles or the thread count.
+MeshTopology analyze_topology(const TriangleMesh& mesh);
 
 }  // namespace poreshell
