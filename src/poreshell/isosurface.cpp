@@ -13,7 +13,7 @@
 // construction; the same stress test gives valid meshes for all 1200 fields here.
 //
 // Vertices are named by the grid edge they lie on, (lower end point key, direction bits), and
-// welded by sorting those names, so the output is deterministic for any thread count. Crossing
+// numbered in the order of those names, so the output is deterministic for any thread count. Crossing
 // parameters are clamped to [kSnap, 1 - kSnap]: every vertex stays strictly inside its edge, so
 // distinct edges give distinct points and no triangle is degenerate even when values equal iso; and
 // no vertex comes near a grid point, where marching tetrahedra make slivers. On a shell of 589,448
@@ -397,54 +397,36 @@ TriangleMesh extract_isosurface(const SparseField& field, double iso) {
   // keeps the cubes that made any; the second makes their triangles again and writes them straight into
   // the indexed mesh. Keeping the triangles between the passes would hold each as three 8-byte names,
   // half a gigabyte at 24 M triangles, beside the mesh being filled; a kept cube costs 8 bytes.
+  // An edge's name is recorded by the cube whose corner 0 is its lower end: that cube's Kuhn
+  // triangulation has all 7 edges from its corner 0, and a tetrahedron with a sign change on an edge
+  // always makes a triangle through it. So each name is recorded once and in ascending order (cubes in
+  // key order, then the 7 directions), and the chunks' lists in turn are all names, sorted, with no sort
+  // of three names per triangle (that was a tenth of the mesh stage at 520 points).
   std::vector<std::size_t> first_triangle(chunks + 1, 0);
-  std::vector<std::vector<std::int64_t>> used(chunks);           // each chunk's edge names, sorted, distinct
+  std::vector<std::vector<std::int64_t>> used(chunks);           // the names each chunk's cubes own
   std::vector<std::vector<std::int64_t>> surface_cells(chunks);  // each chunk's cubes with triangles
   tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
     std::vector<EdgeTriangle> triangles;
     const std::vector<std::int64_t> cells = chunk_cells(c);
     CornerReader corners(lookup, grid, cells.empty() ? 0 : cells.front());
     for (std::int64_t cell : cells) {
-      const std::size_t before = triangles.size();
+      triangles.clear();
       polygonize_cell(cell, corners.at(cell), grid, iso, triangles);
-      if (triangles.size() > before) surface_cells[c].push_back(cell);
+      if (triangles.empty()) continue;
+      surface_cells[c].push_back(cell);
+      first_triangle[c + 1] += triangles.size();
+      unsigned owned = 0;  // bit b: the edge from corner 0 in direction b
+      for (const EdgeTriangle& t : triangles)
+        for (std::int64_t name : t)
+          if (name / 8 == cell) owned |= 1u << (name % 8);
+      for (int bits = 1; bits < 8; ++bits)
+        if ((owned >> bits) & 1) used[c].push_back(cell * 8 + bits);
     }
     surface_cells[c].shrink_to_fit();
-    first_triangle[c + 1] = triangles.size();
-    std::vector<std::int64_t>& names = used[c];
-    names.reserve(3 * triangles.size());
-    for (const auto& t : triangles) names.insert(names.end(), t.begin(), t.end());
-    std::sort(names.begin(), names.end());
-    names.erase(std::unique(names.begin(), names.end()), names.end());
-    names.shrink_to_fit();
+    used[c].shrink_to_fit();
   });
   for (std::size_t c = 0; c < chunks; ++c) first_triangle[c + 1] += first_triangle[c];
 
-  // Weld: vertex index = rank of the edge name among all names used, found chunk by chunk. A name's
-  // lower end lies in the cube that made it or beyond, so each name has an owner: the chunk whose key
-  // range holds its lower end, at or after every chunk that uses it. Each chunk's owned names, in
-  // order, make one run of the global order, so the mesh is the same as from one global sort, without
-  // a table of all 3T names (the largest array of the extraction).
-  const auto owner = [&](std::int64_t name) {
-    const auto it = std::upper_bound(chunk_first.begin(), chunk_first.end(), name / 8);
-    return static_cast<std::size_t>(it - chunk_first.begin()) - 1;
-  };
-  std::vector<std::int64_t> handed_on;  // names a chunk uses but a later chunk owns (at its start)
-  for (std::size_t c = 0; c < chunks; ++c) {
-    auto& names = used[c];
-    const auto own_end = std::lower_bound(names.begin(), names.end(), chunk_first[c + 1],
-                                          [](std::int64_t name, std::int64_t key) { return name / 8 < key; });
-    handed_on.insert(handed_on.end(), own_end, names.end());
-    names.erase(own_end, names.end());
-  }
-  std::sort(handed_on.begin(), handed_on.end());
-  for (std::int64_t name : handed_on) used[owner(name)].push_back(name);
-  handed_on = {};
-  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
-    auto& names = used[c];
-    std::sort(names.begin(), names.end());
-    names.erase(std::unique(names.begin(), names.end()), names.end());
-  });
   // All names in one sorted array (each chunk's run moved in, in order): vertex index = position.
   std::size_t vertex_count = 0;
   for (const auto& names : used) vertex_count += names.size();
