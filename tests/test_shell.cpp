@@ -196,6 +196,32 @@ TEST(Shell, SamplesGrowWithTheAreaNotTheBox) {
   }
 }
 
+// Where the shell's spacing is the band's, its samples are band grid points, and those that are band
+// voxels take the band's closest points: the wall is the exact one either way.
+TEST(Shell, SamplesOnTheBandsGridKeepTheExactWall) {
+  const SphereCase s;
+  const double h = s.grid.h();
+  for (WallOffset offset : {WallOffset::centered, WallOffset::inside}) {
+    const double t = 4.0 * h, c = offset == WallOffset::inside ? -0.5 * t : 0.0;
+    const ShellSamples samples = sample_shell(s.sphere, s.band, s.phi, options(t, offset, h));
+    ASSERT_EQ(samples.grid.h(), h);
+    const Vec3 cells = (samples.grid.origin() - s.grid.origin()) / h;
+    EXPECT_NEAR((cells - cells.array().round().matrix()).norm(), 0.0, 1e-9);
+    std::int64_t band_voxels = 0;
+    double worst = 0.0;
+    for (std::size_t n = 0; n < samples.points.size(); ++n) {
+      const Vec3 x = samples.grid.position(samples.points[n]);
+      const double d = (x - kCenter).norm() - kRadius;
+      worst = std::max(worst, std::abs(samples.wall[n] - (std::abs(d - c) - 0.5 * t)));
+      const Vec3 q = s.grid.to_index_space(x).array().round();
+      band_voxels +=
+          s.band.find({static_cast<int>(q.x()), static_cast<int>(q.y()), static_cast<int>(q.z())}) >= 0;
+    }
+    EXPECT_GT(band_voxels, static_cast<std::int64_t>(samples.points.size() / 5));
+    EXPECT_LT(worst, 1e-6 * h) << to_string(offset);
+  }
+}
+
 // Every cube with a corner inside the wall has all 8 corners sampled (a missing one would take the
 // background value and move the surface): the samples reach sqrt(3) cells beyond the slab.
 TEST(Shell, EveryCubeTouchingTheWallIsSampled) {
