@@ -326,11 +326,13 @@ NarrowBand build_band(const Surface& surface, const Grid& grid, const BandOption
       const Vec3 t = q - Vec3(base.i, base.j, base.k);
       GhostStencil& s = band.stencils_[g];
       s.t = {static_cast<float>(t.x()), static_cast<float>(t.y()), static_cast<float>(t.z())};
-      for (int corner = 0; corner < 8; ++corner) {
-        const Coord cc{base.i + (corner & 1), base.j + ((corner >> 1) & 1), base.k + (corner >> 2)};
-        const std::int64_t idx = band.find(cc);
-        if ((corner & 1) == 0) s.row[corner >> 1] = static_cast<std::int32_t>(std::max<std::int64_t>(idx, 0));
-        if (idx < 0) {
+      for (int r = 0; r < 4; ++r) {  // the cell's 4 rows along x: one search finds both corners
+        const Coord row_start{base.i, base.j + (r & 1), base.k + (r >> 1)};
+        const std::array<std::int64_t, 2> idx = band.find_x_pair(row_start);
+        s.row[static_cast<std::size_t>(r)] = static_cast<std::int32_t>(std::max<std::int64_t>(idx[0], 0));
+        for (int x = 0; x < 2; ++x) {
+          if (idx[static_cast<std::size_t>(x)] >= 0) continue;
+          const Coord cc{row_start.i + x, row_start.j, row_start.k};
           if (!grid.contains(cc)) throw InputError("a closest point lies outside the grid: add padding");
           missing[g].push_back(grid.key(cc));
         }
