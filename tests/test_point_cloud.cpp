@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <algorithm>
 #include <chrono>
@@ -131,6 +132,34 @@ TEST(PointTree, NearestAndKNearestMatchBruteForce) {
     const auto k = tree.k_nearest(x, 9);
     ASSERT_EQ(k.size(), 9u);
     for (std::size_t j = 0; j < 9; ++j) EXPECT_EQ(k[j], all[j].second);
+  }
+}
+
+// Trees of more than 2^16 points build their subtrees in parallel: the same answers as brute force
+// (ties to the lower index) with one thread and with several. A lattice with repeated points makes
+// ties in the median splits and in the distances.
+TEST(PointTree, ParallelBuildMatchesBruteForceWithTies) {
+  std::vector<Vec3> pts;
+  for (int k = 0; k < 40; ++k)
+    for (int j = 0; j < 40; ++j)
+      for (int i = 0; i < 50; ++i) pts.emplace_back(0.1 * i, 0.1 * j, 0.1 * k);
+  pts.insert(pts.end(), pts.begin(), pts.begin() + 20000);  // exact duplicates, higher indices
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-0.5, 5.5);
+  std::vector<Vec3> queries(60);
+  for (auto& x : queries) x = Vec3(u(rng), 0.8 * u(rng), 0.8 * u(rng));
+  queries.push_back(Vec3(0.05, 0.05, 0.05));  // equidistant from 8 lattice points
+  for (int threads : {1, 2}) {
+    const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    const PointTree tree(pts);
+    for (const Vec3& x : queries) {
+      std::size_t best = 0;
+      for (std::size_t i = 1; i < pts.size(); ++i)
+        if ((pts[i] - x).squaredNorm() < (pts[best] - x).squaredNorm()) best = i;
+      const auto [i, d] = tree.nearest(x);
+      EXPECT_EQ(i, best) << threads << " threads";
+      EXPECT_DOUBLE_EQ(d, (pts[best] - x).norm());
+    }
   }
 }
 

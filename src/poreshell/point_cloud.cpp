@@ -1,6 +1,7 @@
 #include "poreshell/point_cloud.hpp"
 
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -17,30 +18,59 @@ constexpr std::int32_t kLeafSize = 8;
 
 }  // namespace
 
+// An item during the build, its point and radius beside its index: the median splits then read one run
+// of memory instead of a random point per comparison.
+struct PointTree::BuildSlot {
+  Vec3 point;
+  double radius;
+  std::int32_t index;
+};
+
+namespace {
+
+std::int32_t leaf_count(std::int32_t items) {
+  return items <= kLeafSize ? 1 : leaf_count(items / 2) + leaf_count(items - items / 2);
+}
+
+// Above this many items a node's two subtrees are built in parallel.
+constexpr std::int32_t kParallelItems = 1 << 16;
+
+}  // namespace
+
 PointTree::PointTree(const std::vector<Vec3>& points, std::vector<double> radii)
     : points_(points), radii_(std::move(radii)) {
   if (points_.empty()) throw InputError("a point tree needs at least one point");
   if (points_.size() > static_cast<std::size_t>(INT32_MAX / 2))
     throw InputError("too many points (over 2^30)");
   if (radii_.empty()) radii_.assign(points_.size(), 0.0);
+  const auto n = static_cast<std::int32_t>(points_.size());
+  std::vector<BuildSlot> slots(points_.size());
+  for (std::int32_t i = 0; i < n; ++i) {
+    const auto u = static_cast<std::size_t>(i);
+    slots[u] = {points_[u], radii_[u], i};
+  }
+  // A full binary tree: 2 leaves - 1 nodes, numbered as a depth-first build would number them.
+  nodes_.resize(2 * static_cast<std::size_t>(leaf_count(n)) - 1);
+  build(slots, 0, 0, n, 1);
   order_.resize(points_.size());
-  std::iota(order_.begin(), order_.end(), 0);
-  nodes_.reserve(2 * points_.size() / kLeafSize + 2);
-  nodes_.emplace_back();
-  build(0, 0, static_cast<std::int32_t>(order_.size()));
   leaf_points_.resize(points_.size());
-  for (std::size_t s = 0; s < order_.size(); ++s)
-    leaf_points_[s] = points_[static_cast<std::size_t>(order_[s])];
+  for (std::size_t s = 0; s < slots.size(); ++s) {
+    order_[s] = slots[s].index;
+    leaf_points_[s] = slots[s].point;
+  }
 }
 
-void PointTree::build(std::int32_t node, std::int32_t begin, std::int32_t end) {
+// Node `node` over slots [begin, end); its children are nodes first_free and first_free + 1, and their
+// subtrees take the numbers after those, the left subtree's first.
+void PointTree::build(std::vector<BuildSlot>& slots, std::int32_t node, std::int32_t begin, std::int32_t end,
+                      std::int32_t first_free) {
   Node n;
-  n.lo = n.hi = points_[static_cast<std::size_t>(order_[static_cast<std::size_t>(begin)])];
+  n.lo = n.hi = slots[static_cast<std::size_t>(begin)].point;
   for (std::int32_t s = begin; s < end; ++s) {
-    const auto i = static_cast<std::size_t>(order_[static_cast<std::size_t>(s)]);
-    n.lo = n.lo.cwiseMin(points_[i]);
-    n.hi = n.hi.cwiseMax(points_[i]);
-    n.radius = std::max(n.radius, radii_[i]);
+    const BuildSlot& slot = slots[static_cast<std::size_t>(s)];
+    n.lo = n.lo.cwiseMin(slot.point);
+    n.hi = n.hi.cwiseMax(slot.point);
+    n.radius = std::max(n.radius, slot.radius);
   }
   if (end - begin <= kLeafSize) {
     n.first = begin;
@@ -52,20 +82,23 @@ void PointTree::build(std::int32_t node, std::int32_t begin, std::int32_t end) {
   (n.hi - n.lo).maxCoeff(&axis);
   const std::int32_t mid = begin + (end - begin) / 2;
   // Ties broken by index so that the tree, and hence every answer, is deterministic.
-  std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
-                   [&](std::int32_t a, std::int32_t b) {
-                     const double pa = points_[static_cast<std::size_t>(a)][axis];
-                     const double pb = points_[static_cast<std::size_t>(b)][axis];
-                     return pa < pb || (pa == pb && a < b);
+  std::nth_element(slots.begin() + begin, slots.begin() + mid, slots.begin() + end,
+                   [axis](const BuildSlot& a, const BuildSlot& b) {
+                     const double pa = a.point[axis], pb = b.point[axis];
+                     return pa < pb || (pa == pb && a.index < b.index);
                    });
-  const auto left = static_cast<std::int32_t>(nodes_.size());
-  nodes_.emplace_back();
-  nodes_.emplace_back();
-  n.first = left;
+  n.first = first_free;
   n.count = 0;
   nodes_[static_cast<std::size_t>(node)] = n;
-  build(left, begin, mid);
-  build(left + 1, mid, end);
+  const std::int32_t left_nodes = 2 * leaf_count(mid - begin) - 1;
+  const auto left = [&] { build(slots, first_free, begin, mid, first_free + 2); };
+  const auto right = [&] { build(slots, first_free + 1, mid, end, first_free + 1 + left_nodes); };
+  if (end - begin >= kParallelItems) {
+    tbb::parallel_invoke(left, right);
+  } else {
+    left();
+    right();
+  }
 }
 
 // The closest-slot search without radii, in squared distances, each node's bound computed once (kept on

@@ -41,7 +41,9 @@ class PointTree {
     std::int32_t first = 0;  // leaf: first slot in order_; inner: left child (right child is first + 1)
     std::int32_t count = 0;  // leaf: number of items; inner: 0
   };
-  void build(std::int32_t node, std::int32_t begin, std::int32_t end);
+  struct BuildSlot;
+  void build(std::vector<BuildSlot>& slots, std::int32_t node, std::int32_t begin, std::int32_t end,
+             std::int32_t first_free);
   // The item in leaf slot s (-1: none, ordered after every item).
   std::size_t item(std::int32_t s) const {
     return s < 0 ? std::numeric_limits<std::size_t>::max()
