@@ -155,11 +155,7 @@ TEST(Band, GhostsCloseTheLaplacianStencil) {
   for (std::size_t gi = 0; gi < ghost_used.size(); ++gi) {
     EXPECT_GT(ghost_used[gi], 0);
     EXPECT_LT(band.find(band.ghosts()[gi]), 0);  // ghosts are outside the band
-    EXPECT_EQ(band.find_ghost(band.ghosts()[gi]), static_cast<std::int64_t>(gi));
   }
-  for (std::size_t v = 0; v < band.size(); v += 7) EXPECT_LT(band.find_ghost(band.voxels()[v]), 0);
-  EXPECT_LT(band.find_ghost({0, 0, 0}), 0);   // far from the surface
-  EXPECT_LT(band.find_ghost({-1, 5, 5}), 0);  // outside the grid
   // The paper's I|grad_h I| != 0 set is contained in ours; ours also holds the few balanced points.
   EXPECT_LE(band.stats().paper_ghosts, static_cast<std::int64_t>(band.ghost_count()));
   EXPECT_GT(band.stats().paper_ghosts, static_cast<std::int64_t>(band.ghost_count() * 9 / 10));
@@ -192,8 +188,6 @@ TEST(Band, StencilsInterpolateLinearFunctionsExactlyAtTheClosestPoint) {
     // Exact at the cp as stored: its position in the cell in float (within 2^-24 cells of the cp).
     const Vec3 cp = *torus->closest_point(g.position(band.ghosts()[gi]));
     EXPECT_NEAR(ext[band.size() + gi], linear(cp), kLinearSlope * g.h() * 0x1p-23);
-    // The stencil gives cp back (the shell reads it there) to the same float rounding per axis.
-    EXPECT_LT((band.ghost_closest_point(gi) - cp).lpNorm<Eigen::Infinity>(), g.h() * 0x1p-23);
   }
   EXPECT_GT(band.stats().max_closest_point_offset, 1.5);
   EXPECT_LT(band.stats().max_closest_point_offset, 3.5);

@@ -212,17 +212,6 @@ std::int64_t NarrowBand::find(const Coord& c) const {
   return (it != keys_.end() && *it == key) ? it - keys_.begin() : -1;
 }
 
-std::int64_t NarrowBand::find_ghost(const Coord& c) const {
-  if (!grid_.contains(c)) return -1;
-  const auto [begin, end] = ghosts_of_parity((c.i + c.j + c.k) & 1);
-  const std::int64_t key = grid_.key(c);
-  const auto first = ghosts_.begin() + static_cast<std::ptrdiff_t>(begin);
-  const auto last = ghosts_.begin() + static_cast<std::ptrdiff_t>(end);
-  const auto it =
-      std::lower_bound(first, last, key, [&](const Coord& g, std::int64_t k) { return grid_.key(g) < k; });
-  return (it != last && grid_.key(*it) == key) ? it - ghosts_.begin() : -1;
-}
-
 namespace {
 
 // Small bands (coarse multigrid levels) run as one task rather than paying the scheduler per ghost.

@@ -93,14 +93,6 @@ class NarrowBand {
 
   // Band index of a grid point, or -1 if it is not a band voxel (binary search; build-time use).
   std::int64_t find(const Coord& c) const;
-  // Ghost index of a grid point (0-based among the ghosts), or -1 if it is not a ghost (binary search).
-  std::int64_t find_ghost(const Coord& c) const;
-  // cp(x) of ghost g, read from its stencil (within 2^-24 cells of the one the band was built with).
-  Vec3 ghost_closest_point(std::size_t g) const {
-    const GhostStencil& s = stencils_[g];
-    return grid_.position(voxels_[static_cast<std::size_t>(s.row[0])]) +
-           grid_.h() * Vec3(s.t[0], s.t[1], s.t[2]);
-  }
   // The same for c and its +x neighbour, with one search.
   std::array<std::int64_t, 2> find_x_pair(const Coord& c) const;
 

@@ -70,8 +70,8 @@ ShellSamples sample_shell(const Surface& surface, const NarrowBand& band, std::s
   const Vec3 margin = Vec3::Constant(std::abs(center_offset) + 0.5 * t + kMarginCells * h);
   const bool exact = surface.closest_point_is_exact();
   // On the band's own grid points where the spacing is the band's: there a sample that is a band voxel
-  // or a ghost takes the band's exact closest point instead of a surface query (about half the samples
-  // when the wall is about as thick as the band; the queries were most of the sampling's time).
+  // takes the band's exact closest point instead of a surface query (about half the samples when the
+  // wall is about as thick as the band; the queries were most of the sampling's time).
   const Grid& band_grid = band.grid();
   const bool on_band_grid = exact && h == band_grid.h();
   Vec3 grid_origin = box.min - margin;
@@ -102,12 +102,8 @@ ShellSamples sample_shell(const Surface& surface, const NarrowBand& band, std::s
     const Vec3 x = out.grid.position(c);
     std::optional<Vec3> cp;
     if (on_band_grid) {
-      const Coord b{c.i + to_band.i, c.j + to_band.j, c.k + to_band.k};
-      if (const std::int64_t v = band.find(b); v >= 0) {
-        cp = band.closest_point(static_cast<std::size_t>(v));
-      } else if (const std::int64_t g = band.find_ghost(b); g >= 0) {
-        cp = band.ghost_closest_point(static_cast<std::size_t>(g));  // the ghosts' layer around the band
-      }
+      const std::int64_t v = band.find({c.i + to_band.i, c.j + to_band.j, c.k + to_band.k});
+      if (v >= 0) cp = band.closest_point(static_cast<std::size_t>(v));
     }
     if (exact && !cp) cp = surface.closest_point(x);
     double d = 0.0;
