@@ -148,7 +148,7 @@ TEST(PointTree, ParallelBuildMatchesBruteForceWithTies) {
   std::uniform_real_distribution<double> u(-0.5, 5.5);
   std::vector<Vec3> queries(60);
   for (auto& x : queries) x = Vec3(u(rng), 0.8 * u(rng), 0.8 * u(rng));
-  queries.push_back(Vec3(0.05, 0.05, 0.05));  // equidistant from 8 lattice points
+  queries.push_back(Vec3(0.05, 0.05, 0.05));  // (nearly) equidistant from 8 lattice points
   for (int threads : {1, 2}) {
     const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
     const PointTree tree(pts);

@@ -6,8 +6,8 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 #include <queue>
+#include <stdexcept>
 
 #include "poreshell/error.hpp"
 
@@ -37,17 +37,17 @@ constexpr std::int32_t kParallelItems = 1 << 16;
 
 }  // namespace
 
-PointTree::PointTree(const std::vector<Vec3>& points, std::vector<double> radii)
-    : points_(points), radii_(std::move(radii)) {
+PointTree::PointTree(const std::vector<Vec3>& points, const std::vector<double>& radii) : points_(points) {
   if (points_.empty()) throw InputError("a point tree needs at least one point");
   if (points_.size() > static_cast<std::size_t>(INT32_MAX / 2))
     throw InputError("too many points (over 2^30)");
-  if (radii_.empty()) radii_.assign(points_.size(), 0.0);
+  if (!radii.empty() && radii.size() != points_.size())
+    throw std::invalid_argument("a point tree needs one radius per point, or none");
   const auto n = static_cast<std::int32_t>(points_.size());
   std::vector<BuildSlot> slots(points_.size());
   for (std::int32_t i = 0; i < n; ++i) {
     const auto u = static_cast<std::size_t>(i);
-    slots[u] = {points_[u], radii_[u], i};
+    slots[u] = {points_[u], radii.empty() ? 0.0 : radii[u], i};  // the radii live on in the nodes' bounds
   }
   // A full binary tree: 2 leaves - 1 nodes, numbered as a depth-first build would number them.
   nodes_.resize(2 * static_cast<std::size_t>(leaf_count(n)) - 1);

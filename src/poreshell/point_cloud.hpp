@@ -19,7 +19,7 @@ namespace poreshell {
 // the distance to its box of centres minus its largest radius. Deterministic (median splits).
 class PointTree {
  public:
-  explicit PointTree(const std::vector<Vec3>& points, std::vector<double> radii = {});
+  explicit PointTree(const std::vector<Vec3>& points, const std::vector<double>& radii = {});
 
   std::size_t size() const { return order_.size(); }
   const Vec3& point(std::size_t i) const { return points_[i]; }
@@ -57,7 +57,6 @@ class PointTree {
   }
 
   std::vector<Vec3> points_;
-  std::vector<double> radii_;
   std::vector<std::int32_t> order_;  // item indices in leaf order
   std::vector<Vec3> leaf_points_;    // points in leaf order: a leaf's points in one run of memory
   std::vector<Node> nodes_;
