@@ -17,10 +17,10 @@
 #include <string>
 #include <vector>
 
-#include "poreshell/atomic_file.hpp"
-#include "poreshell/error.hpp"
-#include "poreshell/pipeline.hpp"
-#include "poreshell/report.hpp"
+#include "core/error.hpp"
+#include "io/atomic_file.hpp"
+#include "pipeline/pipeline.hpp"
+#include "pipeline/report.hpp"
 #include "summary.hpp"
 
 namespace {

@@ -4,7 +4,7 @@
 #include <chrono>
 #include <string>
 
-#include "poreshell/pipeline.hpp"
+#include "pipeline/pipeline.hpp"
 
 // Progress: the first step, every tenth, and every step where the energy was evaluated.
 void print_progress(const poreshell::StepProgress& p, std::chrono::steady_clock::time_point start);

@@ -13,12 +13,12 @@
 #include <string>
 #include <vector>
 
-#include "poreshell/band.hpp"
-#include "poreshell/fast_solver.hpp"
-#include "poreshell/initial_condition.hpp"
-#include "poreshell/mesh_surface.hpp"
-#include "poreshell/pattern.hpp"
-#include "poreshell/time_stepping.hpp"
+#include "band/band.hpp"
+#include "geometry/mesh_surface.hpp"
+#include "pattern/pattern.hpp"
+#include "solver/fast_solver.hpp"
+#include "solver/initial_condition.hpp"
+#include "solver/time_stepping.hpp"
 
 int main(int argc, char** argv) {
   using namespace poreshell;

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "poreshell/pipeline.hpp"
+#include "pipeline/pipeline.hpp"
 
 int main(int argc, char** argv) {
   poreshell::PipelineConfig config;

@@ -3,11 +3,11 @@
 
 #include <benchmark/benchmark.h>
 
-#include "poreshell/band.hpp"
-#include "poreshell/band_multigrid.hpp"
-#include "poreshell/fast_solver.hpp"
-#include "poreshell/initial_condition.hpp"
-#include "poreshell/reference_solver.hpp"
+#include "band/band.hpp"
+#include "solver/band_multigrid.hpp"
+#include "solver/fast_solver.hpp"
+#include "solver/initial_condition.hpp"
+#include "solver/reference_solver.hpp"
 
 using namespace poreshell;
 

@@ -1,0 +1,475 @@
+#include "geometry/isosurface.hpp"
+
+// Marching tetrahedra on the Kuhn (Freudenthal) triangulation: every cube is split into the six
+// tetrahedra around its main diagonal, the same way in every cube, so neighbouring cubes agree on
+// their shared faces. A grid point is inside when value < iso and outside otherwise; no point is
+// ever "on" the surface, so the output is the level set of a piecewise-linear field at a regular
+// value: closed, 2-manifold and free of cracks by construction, with no ambiguous cases.
+//
+// Why not openvdb::tools::volumeToMesh: its documentation promises no manifold output, and in a
+// stress test (random 12^3 fields, iso -0.3/0/0.3, adaptivity 0) it gave zero-area triangles in
+// 594 of 600 fields whose values sit exactly on an iso level (it was fine on continuous values).
+// Pore counting needs the Euler characteristic exactly, so we use a method that is correct by
+// construction; the same stress test gives valid meshes for all 1200 fields here.
+//
+// Vertices are named by the grid edge they lie on, (lower end point key, direction bits), and
+// numbered in the order of those names, so the output is deterministic for any thread count. Crossing
+// parameters are clamped to [kSnap, 1 - kSnap]: every vertex stays strictly inside its edge, so
+// distinct edges give distinct points and no triangle is degenerate even when values equal iso; and
+// no vertex comes near a grid point, where marching tetrahedra make slivers. On a shell of 589,448
+// triangles, kSnap = 0.001 left 7,520 triangles with an angle under 1 degree (302 under 0.1); 0.05
+// leaves none (smallest 1.4 degrees) and moves the surface by at most 0.05 of an edge; 0.15 left none
+// under 5 degrees but moved a 3-cell wall's faces by 5% of its thickness.
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+#include <tbb/parallel_sort.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <functional>
+#include <iterator>
+#include <limits>
+#include <stdexcept>
+
+#include "core/error.hpp"
+
+namespace poreshell {
+namespace {
+
+constexpr double kSnap = 0.05;                  // in units of the edge length
+constexpr std::size_t kPointsPerChunk = 16384;  // at least; chunks depend on the field, not the threads
+
+// Cube corners are 3-bit masks (bit 0: +x, bit 1: +y, bit 2: +z).
+using Tet = std::array<int, 4>;
+
+// One surface patch per tetrahedron sign pattern: 3 or 4 tet edges (pairs of tet vertices) in
+// counter-clockwise order seen from outside (from the larger values).
+struct Patch {
+  int size = 0;
+  std::array<std::array<int, 2>, 4> edges{};
+};
+
+struct Tables {
+  std::array<Tet, 6> tets{};
+  std::array<Patch, 16> patches{};  // by inside mask over the 4 tet vertices
+};
+
+int corner_det(const Tet& t) {
+  auto v = [](int c, int a) { return (c >> a) & 1; };
+  int m[3][3];
+  for (int r = 0; r < 3; ++r)
+    for (int a = 0; a < 3; ++a) m[r][a] = v(t[r + 1], a) - v(t[0], a);
+  return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
+         m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+         m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+}
+
+Tables make_tables() {
+  Tables tables;
+  std::array<int, 3> axes{0, 1, 2};
+  int n = 0;
+  do {  // Kuhn tetrahedron: walk from corner 0 to corner 7 adding one axis at a time.
+    const int a = 1 << axes[0], b = a | (1 << axes[1]);
+    Tet t{0, a, b, 7};
+    if (corner_det(t) < 0) std::swap(t[2], t[3]);  // positive orientation for the patch table
+    tables.tets[n++] = t;
+  } while (std::next_permutation(axes.begin(), axes.end()));
+
+  // Even permutations of the tet vertices keep the orientation positive. For (p0, p1, p2, p3)
+  // positive, the triangle (p0p1, p0p2, p0p3) faces away from p0 (derivation: its normal dotted
+  // with p1 - p0 is the tet's determinant).
+  std::array<int, 4> p{0, 1, 2, 3};
+  std::vector<std::array<int, 4>> even;
+  do {
+    int inversions = 0;
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j) inversions += p[i] > p[j];
+    if (inversions % 2 == 0) even.push_back(p);
+  } while (std::next_permutation(p.begin(), p.end()));
+
+  for (int mask = 1; mask < 15; ++mask) {
+    Patch& patch = tables.patches[mask];
+    const int inside = std::popcount(static_cast<unsigned>(mask));
+    for (const auto& q : even) {
+      const bool in0 = (mask >> q[0]) & 1, in1 = (mask >> q[1]) & 1;
+      if (inside == 1 && in0) {  // faces away from the inside vertex q0
+        patch = {3, {{{q[0], q[1]}, {q[0], q[2]}, {q[0], q[3]}}}};
+        break;
+      }
+      if (inside == 3 && !in0) {  // faces towards the outside vertex q0
+        patch = {3, {{{q[0], q[1]}, {q[0], q[3]}, {q[0], q[2]}}}};
+        break;
+      }
+      if (inside == 2 && in0 && in1) {  // quad around the inside edge q0q1
+        patch = {4, {{{q[0], q[2]}, {q[0], q[3]}, {q[1], q[3]}, {q[1], q[2]}}}};
+        break;
+      }
+    }
+  }
+  return tables;
+}
+
+const Tables& tables() {
+  static const Tables t = make_tables();
+  return t;
+}
+
+// The grid padded by one layer on each side, so the cells around points on the grid boundary
+// (whose far corners hold the background) have valid keys.
+struct PaddedGrid {
+  std::int64_t nx, ny, nz;
+  std::int64_t key(const Coord& c) const { return (c.i + 1) + nx * ((c.j + 1) + ny * (c.k + 1)); }
+  std::int64_t offset(int corner) const {
+    return (corner & 1) + nx * ((corner >> 1) & 1) + nx * ny * (corner >> 2);
+  }
+  // Grid-index coordinates of a padded key (may be -1 or N).
+  Vec3 index(std::int64_t key) const {
+    return Vec3(static_cast<double>(key % nx - 1), static_cast<double>((key / nx) % ny - 1),
+                static_cast<double>(key / (nx * ny) - 1));
+  }
+};
+
+// The field as sorted (padded key, value) arrays; missing points hold the background.
+struct FieldLookup {
+  std::vector<std::int64_t> keys;
+  std::vector<double> values;
+  double background = 1.0;
+
+  double at(std::int64_t key) const {
+    const auto it = std::lower_bound(keys.begin(), keys.end(), key);
+    return it != keys.end() && *it == key ? values[it - keys.begin()] : background;
+  }
+};
+
+// The 8 corner values of cubes visited in ascending key order, read by four forward cursors (one per
+// row of the cube along x) instead of a binary search per row and cube: consecutive cubes share rows,
+// so a cursor moves a few entries, and over a chunk each walks its key range once. The searches were
+// half the extraction at millions of samples.
+class CornerReader {
+ public:
+  CornerReader(const FieldLookup& field, const PaddedGrid& grid, std::int64_t first_cell)
+      : field_(field), grid_(grid) {
+    for (int r = 0; r < 4; ++r)
+      at_[static_cast<std::size_t>(r)] = static_cast<std::size_t>(
+          std::lower_bound(field.keys.begin(), field.keys.end(), first_cell + grid.offset(r << 1)) -
+          field.keys.begin());
+  }
+
+  // Corner c = bit 0 (+x), bit 1 (+y), bit 2 (+z); cell must not be below the previous one.
+  std::array<double, 8> at(std::int64_t cell) {
+    std::array<double, 8> v;
+    const std::size_t n = field_.keys.size();
+    for (int r = 0; r < 4; ++r) {
+      const std::int64_t key = cell + grid_.offset(r << 1);
+      std::size_t& i = at_[static_cast<std::size_t>(r)];
+      while (i < n && field_.keys[i] < key) ++i;
+      std::size_t j = i;
+      v[static_cast<std::size_t>(r << 1)] =
+          j < n && field_.keys[j] == key ? field_.values[j++] : field_.background;
+      v[static_cast<std::size_t>((r << 1) | 1)] =
+          j < n && field_.keys[j] == key + 1 ? field_.values[j] : field_.background;
+    }
+    return v;
+  }
+
+ private:
+  const FieldLookup& field_;
+  const PaddedGrid& grid_;
+  std::array<std::size_t, 4> at_{};
+};
+
+// The vertex index (position among all sorted edge names) of a cube's edges, for cubes visited in
+// ascending key order, by four forward cursors like CornerReader's: an edge's lower end is a corner of
+// its cube, so its name lies a few entries past the cursor of that corner's row. A binary search per
+// triangle corner over the names was a fifth of the extraction at 30 M triangles.
+class NameReader {
+ public:
+  NameReader(const std::vector<std::int64_t>& names, const PaddedGrid& grid, std::int64_t first_cell)
+      : names_(names), grid_(grid) {
+    for (int r = 0; r < 4; ++r)
+      at_[static_cast<std::size_t>(r)] = static_cast<std::size_t>(
+          std::lower_bound(names.begin(), names.end(), 8 * (first_cell + grid.offset(r << 1))) -
+          names.begin());
+  }
+
+  // cell must not be below the previous one.
+  void move_to(std::int64_t cell) {
+    for (int r = 0; r < 4; ++r) {
+      const std::int64_t first_name = 8 * (cell + grid_.offset(r << 1));
+      std::size_t& i = at_[static_cast<std::size_t>(r)];
+      while (i < names_.size() && names_[i] < first_name) ++i;
+    }
+  }
+  // Index of `name`, an edge of `cell` (the cell of the last move_to).
+  std::size_t index(std::int64_t cell, std::int64_t name) const {
+    const std::int64_t d = name / 8 - cell;  // the lower end's corner offset
+    const std::size_t row =
+        (d >= grid_.offset(4) ? 2 : 0) + ((d % grid_.offset(4)) >= grid_.offset(2) ? 1 : 0);
+    std::size_t i = at_[row];
+    while (names_[i] < name) ++i;
+    return i;
+  }
+
+ private:
+  const std::vector<std::int64_t>& names_;
+  const PaddedGrid& grid_;
+  std::array<std::size_t, 4> at_{};
+};
+
+// Crossing parameter from the edge's lower end; exactly one of va, vb is below iso.
+double crossing(double va, double vb, double iso) {
+  return std::clamp((iso - va) / (vb - va), kSnap, 1.0 - kSnap);
+}
+
+Vec3 direction(int bits) {
+  return Vec3(bits & 1, (bits >> 1) & 1, (bits >> 2) & 1);
+}
+
+using EdgeTriangle = std::array<std::int64_t, 3>;  // triangle as three edge names
+
+// Appends the triangles of one cube.
+void polygonize_cell(std::int64_t cell, const std::array<double, 8>& v, const PaddedGrid& grid, double iso,
+                     std::vector<EdgeTriangle>& out) {
+  int cube_mask = 0;
+  for (int c = 0; c < 8; ++c) cube_mask |= (v[c] < iso) << c;
+  if (cube_mask == 0 || cube_mask == 0xFF) return;
+
+  for (const Tet& tet : tables().tets) {
+    int mask = 0;
+    for (int i = 0; i < 4; ++i) mask |= ((cube_mask >> tet[i]) & 1) << i;
+    const Patch& patch = tables().patches[mask];
+    if (patch.size == 0) continue;
+    std::array<std::int64_t, 4> name{};
+    std::array<Vec3, 4> pos;  // in cube-local index space, only to pick the quad diagonal
+    for (int e = 0; e < patch.size; ++e) {
+      const int a = tet[patch.edges[e][0]], b = tet[patch.edges[e][1]];
+      const int lo = a & b, bits = a ^ b;  // Kuhn edges join nested corners: lo is the lower end
+      name[e] = (cell + grid.offset(lo)) * 8 + bits;
+      pos[e] = direction(lo) + crossing(v[lo], v[lo | bits], iso) * direction(bits);
+    }
+    if (patch.size == 3) {
+      out.push_back({name[0], name[1], name[2]});
+    } else if ((pos[2] - pos[0]).squaredNorm() <= (pos[3] - pos[1]).squaredNorm()) {
+      out.push_back({name[0], name[1], name[2]});
+      out.push_back({name[0], name[2], name[3]});
+    } else {
+      out.push_back({name[1], name[2], name[3]});
+      out.push_back({name[1], name[3], name[0]});
+    }
+  }
+}
+
+FieldLookup sorted_field(const SparseField& field, const PaddedGrid& grid) {
+  const std::size_t n = field.points.size();
+  for (std::size_t p = 0; p < n; ++p) {
+    if (!field.grid->contains(field.points[p]))
+      throw std::invalid_argument("isosurface: point outside the grid");
+    if (std::isnan(field.values[p])) throw std::invalid_argument("isosurface: NaN field value");
+  }
+  FieldLookup lookup;
+  lookup.background = field.background;
+  lookup.keys.resize(n);
+  lookup.values.resize(n);
+  // Points given in key order (the shell's samples) are taken as they are: no sorted copy.
+  const auto by_key = [&](const Coord& a, const Coord& b) { return grid.key(a) < grid.key(b); };
+  if (std::is_sorted(field.points.begin(), field.points.end(), by_key)) {
+    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t p) {
+      lookup.keys[p] = grid.key(field.points[p]);
+      lookup.values[p] = field.values[p];
+    });
+  } else {
+    std::vector<std::pair<std::int64_t, double>> entries(n);
+    for (std::size_t p = 0; p < n; ++p) entries[p] = {grid.key(field.points[p]), field.values[p]};
+    tbb::parallel_sort(entries.begin(), entries.end());
+    for (std::size_t p = 0; p < n; ++p) {
+      lookup.keys[p] = entries[p].first;
+      lookup.values[p] = entries[p].second;
+    }
+  }
+  if (std::adjacent_find(lookup.keys.begin(), lookup.keys.end()) != lookup.keys.end())
+    throw std::invalid_argument("isosurface: the same grid point is given twice");
+  return lookup;
+}
+
+PaddedGrid checked_grid(const SparseField& field, double iso) {
+  if (field.grid == nullptr || field.points.size() != field.values.size())
+    throw std::invalid_argument("isosurface: field needs a grid and one value per point");
+  if (!(field.background > iso))
+    throw InputError("the iso level must be below the background value " + std::to_string(field.background));
+  const auto& dims = field.grid->dims();
+  const PaddedGrid grid{dims[0] + 2, dims[1] + 2, dims[2] + 2};
+  if (static_cast<double>(grid.nx) * static_cast<double>(grid.ny) * static_cast<double>(grid.nz) > 0x1p59)
+    throw InputError("the grid is too large for isosurface extraction; lower the resolution");
+  return grid;
+}
+
+// Per mask of the 8 corners of the cube at an inside point p (bit c: corner c inside; bit 0 is p):
+// vertices - edges + triangles - tetrahedra of the Kuhn triangulation with p as their lowest vertex and
+// every vertex inside. Those simplices are the chains p < p + A1 < p + A2 < ... over nested nonempty
+// corner sets: 7 edges, 12 triangles, 6 tetrahedra.
+std::array<int, 256> euler_per_corner_mask() {
+  std::array<int, 256> table{};
+  for (int m = 1; m < 256; m += 2) {
+    const auto all_in = [&](int corners) { return (m & corners) == corners; };  // corners: a bit set
+    const auto corner = [](int c) { return 1 << c; };
+    int chi = 1;
+    for (int a = 1; a < 8; ++a) chi -= all_in(corner(a));
+    for (int a = 1; a < 8; ++a)
+      for (int b = a + 1; b < 8; ++b)
+        if ((a & b) == a) chi += all_in(corner(a) | corner(b));
+    for (int a : {1, 2, 4})
+      for (int b : {1, 2, 4})
+        if (a != b) chi -= all_in(corner(a) | corner(a | b) | corner(7));
+    table[static_cast<std::size_t>(m)] = chi;
+  }
+  return table;
+}
+
+}  // namespace
+
+std::int64_t isosurface_euler_characteristic(const SparseField& field, double iso) {
+  const PaddedGrid grid = checked_grid(field, iso);
+  const FieldLookup lookup = sorted_field(field, grid);
+  static const std::array<int, 256> table = euler_per_corner_mask();
+  const std::int64_t solid = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, lookup.keys.size()), std::int64_t{0},
+      [&](const tbb::blocked_range<std::size_t>& r, std::int64_t sum) {
+        CornerReader corners(lookup, grid, lookup.keys[r.begin()]);
+        for (std::size_t p = r.begin(); p != r.end(); ++p) {
+          if (!(lookup.values[p] < iso)) continue;
+          const std::array<double, 8> v = corners.at(lookup.keys[p]);
+          int mask = 0;
+          for (int c = 0; c < 8; ++c) mask |= (v[static_cast<std::size_t>(c)] < iso) << c;
+          sum += table[static_cast<std::size_t>(mask)];
+        }
+        return sum;
+      },
+      std::plus<>());
+  return 2 * solid;
+}
+
+TriangleMesh extract_isosurface(const SparseField& field, double iso) {
+  const PaddedGrid grid = checked_grid(field, iso);
+  const FieldLookup lookup = sorted_field(field, grid);
+
+  // Only cubes with an inside corner can hold surface: the 8 cubes around each inside point. Cubes are
+  // named by their lowest corner's key and made in chunks of consecutive key ranges, each from the
+  // points that can be a corner of its cubes (up to one plane beyond), so no table of all cubes exists;
+  // a chunk spans at least a few planes of points, so few points are read twice.
+  const std::size_t n_points = lookup.keys.size();
+  const std::size_t per_chunk =
+      std::max(kPointsPerChunk, 4 * n_points / static_cast<std::size_t>(std::max<std::int64_t>(1, grid.nz)));
+  const std::size_t chunks = (n_points + per_chunk - 1) / per_chunk;
+  // Chunk c holds the cubes with keys in [chunk_first[c], chunk_first[c + 1]).
+  std::vector<std::int64_t> chunk_first(chunks + 1);
+  for (std::size_t c = 0; c < chunks; ++c)
+    chunk_first[c] = c == 0 ? std::numeric_limits<std::int64_t>::min() : lookup.keys[c * per_chunk];
+  chunk_first[chunks] = std::numeric_limits<std::int64_t>::max();
+  // The cubes of chunk c that may hold surface, in key order.
+  const auto chunk_cells = [&](std::size_t c) {
+    const std::int64_t first = chunk_first[c], last = chunk_first[c + 1];
+    const auto begin = std::lower_bound(lookup.keys.begin(), lookup.keys.end(), first);
+    const auto end = c + 1 == chunks ? lookup.keys.end()
+                                     : std::lower_bound(begin, lookup.keys.end(), last + grid.offset(7));
+    std::vector<std::int64_t> cells;
+    for (auto it = begin; it != end; ++it)
+      if (lookup.values[static_cast<std::size_t>(it - lookup.keys.begin())] < iso) cells.push_back(*it);
+    // The cubes with an inside corner, by three merges of the sorted keys with themselves shifted by one
+    // step along x, then y, then z (the corner offsets are their sums), not by sorting 8 per point.
+    std::vector<std::int64_t> shifted, merged;
+    for (const std::int64_t step : {grid.offset(1), grid.offset(2), grid.offset(4)}) {
+      shifted.resize(cells.size());
+      std::transform(cells.begin(), cells.end(), shifted.begin(), [&](std::int64_t k) { return k - step; });
+      merged.clear();
+      std::set_union(cells.begin(), cells.end(), shifted.begin(), shifted.end(), std::back_inserter(merged));
+      cells.swap(merged);
+    }
+    cells.erase(
+        std::remove_if(cells.begin(), cells.end(), [&](std::int64_t k) { return k < first || k >= last; }),
+        cells.end());
+    return cells;
+  };
+
+  // Two passes over the chunks: the first counts each chunk's triangles, collects its edge names and
+  // keeps the cubes that made any; the second makes their triangles again and writes them straight into
+  // the indexed mesh. Keeping the triangles between the passes would hold each as three 8-byte names,
+  // half a gigabyte at 24 M triangles, beside the mesh being filled; a kept cube costs 8 bytes.
+  // An edge's name is recorded by the cube whose corner 0 is its lower end: that cube's Kuhn
+  // triangulation has all 7 edges from its corner 0, and a tetrahedron with a sign change on an edge
+  // always makes a triangle through it. So each name is recorded once and in ascending order (cubes in
+  // key order, then the 7 directions), and the chunks' lists in turn are all names, sorted, with no sort
+  // of three names per triangle (that was a tenth of the mesh stage at 520 points).
+  std::vector<std::size_t> first_triangle(chunks + 1, 0);
+  std::vector<std::vector<std::int64_t>> used(chunks);           // the names each chunk's cubes own
+  std::vector<std::vector<std::int64_t>> surface_cells(chunks);  // each chunk's cubes with triangles
+  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+    std::vector<EdgeTriangle> triangles;
+    const std::vector<std::int64_t> cells = chunk_cells(c);
+    CornerReader corners(lookup, grid, cells.empty() ? 0 : cells.front());
+    for (std::int64_t cell : cells) {
+      triangles.clear();
+      polygonize_cell(cell, corners.at(cell), grid, iso, triangles);
+      if (triangles.empty()) continue;
+      surface_cells[c].push_back(cell);
+      first_triangle[c + 1] += triangles.size();
+      unsigned owned = 0;  // bit b: the edge from corner 0 in direction b
+      for (const EdgeTriangle& t : triangles)
+        for (std::int64_t name : t)
+          if (name / 8 == cell) owned |= 1u << (name % 8);
+      for (int bits = 1; bits < 8; ++bits)
+        if ((owned >> bits) & 1) used[c].push_back(cell * 8 + bits);
+    }
+    surface_cells[c].shrink_to_fit();
+    used[c].shrink_to_fit();
+  });
+  for (std::size_t c = 0; c < chunks; ++c) first_triangle[c + 1] += first_triangle[c];
+
+  // All names in one sorted array (each chunk's run moved in, in order): vertex index = position.
+  std::size_t vertex_count = 0;
+  for (const auto& names : used) vertex_count += names.size();
+  if (vertex_count > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()))
+    throw InputError("the isosurface has too many vertices; lower the resolution");
+  std::vector<std::int64_t> names;
+  names.reserve(vertex_count);
+  for (auto& chunk_names : used) {
+    names.insert(names.end(), chunk_names.begin(), chunk_names.end());
+    chunk_names = {};
+  }
+
+  TriangleMesh mesh;
+  mesh.vertices.resize(vertex_count);
+  const Grid& g = *field.grid;
+  tbb::parallel_for(std::size_t{0}, vertex_count, [&](std::size_t i) {
+    const std::int64_t lower = names[i] / 8;
+    const int bits = static_cast<int>(names[i] % 8);
+    const std::int64_t upper = lower + grid.offset(bits);
+    const double t = crossing(lookup.at(lower), lookup.at(upper), iso);
+    mesh.vertices[i] = g.origin() + g.h() * (grid.index(lower) + t * direction(bits));
+  });
+
+  mesh.triangles.resize(first_triangle[chunks]);
+  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+    std::vector<EdgeTriangle> triangles;
+    const std::int64_t first_cell = surface_cells[c].empty() ? 0 : surface_cells[c].front();
+    CornerReader corners(lookup, grid, first_cell);
+    NameReader vertices(names, grid, first_cell);
+    std::size_t i = first_triangle[c];
+    for (std::int64_t cell : surface_cells[c]) {
+      triangles.clear();
+      polygonize_cell(cell, corners.at(cell), grid, iso, triangles);
+      vertices.move_to(cell);
+      for (const EdgeTriangle& t : triangles) {
+        for (int corner = 0; corner < 3; ++corner)
+          mesh.triangles[i][corner] = static_cast<std::int32_t>(vertices.index(cell, t[corner]));
+        ++i;
+      }
+    }
+    surface_cells[c] = {};
+  });
+  return mesh;
+}
+
+}  // namespace poreshell

@@ -1,0 +1,29 @@
+#pragma once
+// Isosurface of a sparse scalar field on the grid. Values are given at a set of grid points;
+// every other grid point holds `background`. The extracted surface bounds the region where the
+// field is below `iso`, oriented outward (normals point towards larger values).
+
+#include <span>
+
+#include "core/grid.hpp"
+#include "geometry/mesh.hpp"
+
+namespace poreshell {
+
+struct SparseField {
+  const Grid* grid = nullptr;
+  std::span<const Coord> points;
+  std::span<const double> values;  // one per point
+  double background = 1.0;
+};
+
+// Requires background > iso (the solid is bounded). The result is closed and 2-manifold.
+TriangleMesh extract_isosurface(const SparseField& field, double iso);
+
+// The Euler characteristic of extract_isosurface(field, iso) without making it: the solid {value <
+// iso} retracts onto the simplices of the cubes' Kuhn triangulation whose corners are all inside, and a
+// closed surface bounding a solid has twice the solid's characteristic. One pass over the inside points
+// (vertices - edges + triangles - tetrahedra that start at each), no mesh.
+std::int64_t isosurface_euler_characteristic(const SparseField& field, double iso);
+
+}  // namespace poreshell

@@ -1,0 +1,228 @@
+#include "geometry/mesh_surface.hpp"
+
+// Bounding-volume hierarchy over triangles, chosen over a sparse distance grid because the band
+// builder asks for distances anywhere in the domain (block centres far from the surface too): a BVH
+// is exact everywhere and needs O(triangles) memory. Median splits keep it balanced, so the query
+// stack has a fixed bound. Queries only read the tree and are safe to run from many threads.
+
+#include <Eigen/Geometry>  // cross()
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+#include "core/error.hpp"
+
+namespace poreshell {
+namespace {
+
+constexpr std::int32_t kLeafSize = 4;
+constexpr int kMaxDepth = 64;  // median splits: depth <= log2(2^31) + 1
+
+Vec3 closest_point_on_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
+  const Vec3 ab = b - a;
+  const double len2 = ab.squaredNorm();
+  if (!(len2 > 0.0)) return a;
+  return a + std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) * ab;
+}
+
+// Nearest of the three edges: exact for a zero-area triangle, which is the union of its edges.
+Vec3 closest_point_on_edges(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  Vec3 best = closest_point_on_segment(p, a, b);
+  for (const Vec3& q : {closest_point_on_segment(p, b, c), closest_point_on_segment(p, c, a)})
+    if ((q - p).squaredNorm() < (best - p).squaredNorm()) best = q;
+  return best;
+}
+
+// Region-based closest point (Voronoi regions of vertices, edges, face) for a triangle with area.
+Vec3 closest_point_by_regions(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const Vec3 bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + (d1 / (d1 - d3)) * ab;
+  const Vec3 cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + (d2 / (d2 - d6)) * ac;
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
+  // Exact arithmetic only gets here with va, vb, vc > 0. If round-off broke that (slivers), the
+  // projection is next to an edge, and the edges give the answer.
+  if (!(va >= 0 && vb >= 0 && vc >= 0 && va + vb + vc > 0)) return closest_point_on_edges(p, a, b, c);
+  const double inv = 1.0 / (va + vb + vc);
+  return a + (vb * inv) * ab + (vc * inv) * ac;
+}
+
+double box_distance2(const Vec3& p, const Vec3& lo, const Vec3& hi) {
+  double d2 = 0.0;
+  for (int axis = 0; axis < 3; ++axis) {
+    const double e = std::max({lo[axis] - p[axis], 0.0, p[axis] - hi[axis]});
+    d2 += e * e;
+  }
+  return d2;
+}
+
+}  // namespace
+
+TriangleShape classify_triangle(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const double longest2 = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+  const double twice_area = (b - a).cross(c - a).norm();
+  if (!(twice_area > 1e-14 * longest2)) return TriangleShape::degenerate;
+  return twice_area > 1e-4 * longest2 ? TriangleShape::regular : TriangleShape::sliver;
+}
+
+Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c,
+                               TriangleShape shape) {
+  // Zero area: the region tests divide by zero, and the edges are the whole triangle.
+  if (shape == TriangleShape::degenerate) return closest_point_on_edges(p, a, b, c);
+  const Vec3 q = closest_point_by_regions(p, a, b, c);
+  if (shape == TriangleShape::regular) return q;
+  // Slivers: the region tests cancel digits and may pick a neighbouring region. Every candidate
+  // lies on the triangle, so the nearest of them is the better answer.
+  const Vec3 e = closest_point_on_edges(p, a, b, c);
+  return (e - p).squaredNorm() < (q - p).squaredNorm() ? e : q;
+}
+
+Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  return closest_point_on_triangle(p, a, b, c, classify_triangle(a, b, c));
+}
+
+MeshSurface::MeshSurface(const TriangleMesh& mesh) {
+  // Checked on the input count, so that input_index_ holds every input index.
+  if (mesh.triangles.size() > static_cast<std::size_t>(INT32_MAX / 2))
+    throw InputError("the mesh has too many triangles (over 2^30): decimate it");
+  std::vector<Tri> tris;
+  std::vector<std::int32_t> input_index;
+  tris.reserve(mesh.triangles.size());
+  input_index.reserve(mesh.triangles.size());
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+    const auto& t = mesh.triangles[i];
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) continue;
+    Tri tri{mesh.vertices.at(t[0]), mesh.vertices.at(t[1]), mesh.vertices.at(t[2])};
+    if (!tri.a.allFinite() || !tri.b.allFinite() || !tri.c.allFinite())
+      throw InputError("the mesh has a vertex with a NaN or infinite coordinate: repair the mesh");
+    tri.shape = classify_triangle(tri.a, tri.b, tri.c);
+    tris.push_back(tri);
+    input_index.push_back(static_cast<std::int32_t>(i));
+  }
+  if (tris.empty()) throw InputError("the mesh has no triangles: it cannot define a surface");
+
+  std::vector<Vec3> centroids(tris.size());
+  for (std::size_t i = 0; i < tris.size(); ++i) centroids[i] = (tris[i].a + tris[i].b + tris[i].c) / 3.0;
+  std::vector<std::int32_t> order(tris.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<std::int32_t>(i);
+  nodes_.reserve(4 * tris.size() / kLeafSize + 1);
+  nodes_.push_back({});
+  build(0, order, tris, centroids, 0, static_cast<std::int32_t>(tris.size()));
+  tris_.reserve(tris.size());
+  input_index_.reserve(tris.size());
+  for (std::int32_t i : order) {
+    tris_.push_back(tris[i]);
+    input_index_.push_back(input_index[i]);
+  }
+}
+
+void MeshSurface::build(std::int32_t node, std::vector<std::int32_t>& order, const std::vector<Tri>& tris,
+                        const std::vector<Vec3>& centroids, std::int32_t begin, std::int32_t end) {
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  Vec3 clo = lo, chi = hi;
+  for (std::int32_t i = begin; i < end; ++i) {
+    const Tri& t = tris[order[i]];
+    lo = lo.cwiseMin(t.a).cwiseMin(t.b).cwiseMin(t.c);
+    hi = hi.cwiseMax(t.a).cwiseMax(t.b).cwiseMax(t.c);
+    clo = clo.cwiseMin(centroids[order[i]]);
+    chi = chi.cwiseMax(centroids[order[i]]);
+  }
+  nodes_[node] = {lo, hi, begin, end - begin};
+  if (end - begin <= kLeafSize) return;
+
+  int axis = 0;
+  (chi - clo).maxCoeff(&axis);
+  const std::int32_t mid = begin + (end - begin) / 2;
+  std::nth_element(order.begin() + begin, order.begin() + mid, order.begin() + end,
+                   [&](std::int32_t x, std::int32_t y) { return centroids[x][axis] < centroids[y][axis]; });
+  const auto left = static_cast<std::int32_t>(nodes_.size());
+  nodes_.push_back({});
+  nodes_.push_back({});
+  nodes_[node].first = left;
+  nodes_[node].count = 0;
+  build(left, order, tris, centroids, begin, mid);
+  build(left + 1, order, tris, centroids, mid, end);
+}
+
+double MeshSurface::nearest(const Vec3& p, Vec3& closest, std::int32_t& index) const {
+  struct Pending {
+    std::int32_t node;
+    double d2;  // lower bound: squared distance to its box
+  };
+  std::array<Pending, kMaxDepth> stack;
+  int top = 0;
+  double best = std::numeric_limits<double>::infinity();
+  std::int32_t node = 0;
+  for (;;) {
+    const Node& n = nodes_[node];
+    if (n.count > 0) {
+      for (std::int32_t i = n.first; i < n.first + n.count; ++i) {
+        const Vec3 q = closest_point_on_triangle(p, tris_[i].a, tris_[i].b, tris_[i].c, tris_[i].shape);
+        const double d2 = (q - p).squaredNorm();
+        if (d2 < best) {
+          best = d2;
+          closest = q;
+          index = i;
+        }
+      }
+    } else {
+      // Nearer child first: it usually finds a small bound that prunes the other.
+      std::int32_t near = n.first, far = n.first + 1;
+      double dnear = box_distance2(p, nodes_[near].lo, nodes_[near].hi);
+      double dfar = box_distance2(p, nodes_[far].lo, nodes_[far].hi);
+      if (dfar < dnear) {
+        std::swap(near, far);
+        std::swap(dnear, dfar);
+      }
+      if (dnear < best) {
+        if (dfar < best) stack[top++] = {far, dfar};
+        node = near;
+        continue;
+      }
+    }
+    while (top > 0 && stack[top - 1].d2 >= best) --top;
+    if (top == 0) break;
+    node = stack[--top].node;
+  }
+  return best;
+}
+
+double MeshSurface::distance(const Vec3& p) const {
+  return distance_and_closest_point(p).distance;
+}
+
+std::optional<Vec3> MeshSurface::closest_point(const Vec3& p) const {
+  return distance_and_closest_point(p).closest_point;
+}
+
+SurfaceQuery MeshSurface::distance_and_closest_point(const Vec3& p) const {
+  Vec3 closest;
+  std::int32_t index = 0;
+  const double d2 = nearest(p, closest, index);
+  return {std::sqrt(d2), closest};
+}
+
+MeshSurface::NearestTriangle MeshSurface::nearest_triangle(const Vec3& p) const {
+  NearestTriangle out;
+  std::int32_t index = 0;
+  nearest(p, out.point, index);
+  out.triangle = static_cast<std::size_t>(input_index_[static_cast<std::size_t>(index)]);
+  return out;
+}
+
+Box MeshSurface::bounds() const {
+  return {nodes_[0].lo, nodes_[0].hi};
+}
+
+}  // namespace poreshell

@@ -1,0 +1,281 @@
+#include "io/mesh_io.hpp"
+
+// Assimp reads the common exchange formats; 3MF goes through lib3mf because that is the format's
+// reference implementation (components, build-item transforms). Both only fill a TriangleMesh; all
+// checks and clean-up happen afterwards in one place, clean_triangle_mesh.
+
+#include <fmt/format.h>
+
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <assimp/Importer.hpp>
+#include <cctype>
+#include <cmath>
+#include <memory>
+#include <numeric>
+#include <string>
+#include <tuple>
+
+#include "core/error.hpp"
+#include "io/file_format.hpp"
+#include "io/lib3mf_support.hpp"
+
+namespace poreshell {
+namespace {
+
+constexpr const char* kSupported = ".stl, .obj, .ply, .off, .3mf";
+
+void append_triangle(TriangleMesh& out, std::size_t a, std::size_t b, std::size_t c) {
+  out.triangles.push_back(
+      {static_cast<std::int32_t>(a), static_cast<std::int32_t>(b), static_cast<std::int32_t>(c)});
+}
+
+void check_index_range(std::size_t vertices) {
+  if (vertices > static_cast<std::size_t>(INT32_MAX))
+    throw InputError("the mesh has more than 2^31 vertices: split or decimate it");
+}
+
+// Walks the node tree so that meshes placed by node transforms end up where the file puts them.
+void append_assimp_node(const aiScene& scene, const aiNode& node, const aiMatrix4x4& parent,
+                        TriangleMesh& out) {
+  const aiMatrix4x4 transform = parent * node.mTransformation;
+  for (unsigned m = 0; m < node.mNumMeshes; ++m) {
+    const aiMesh& mesh = *scene.mMeshes[node.mMeshes[m]];
+    const std::size_t base = out.vertices.size();
+    check_index_range(base + mesh.mNumVertices);
+    for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
+      const aiVector3D p = transform * mesh.mVertices[v];
+      out.vertices.emplace_back(p.x, p.y, p.z);
+    }
+    for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
+      const aiFace& face = mesh.mFaces[f];
+      if (face.mNumIndices != 3) continue;  // points and lines carry no surface
+      append_triangle(out, base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]);
+    }
+  }
+  for (unsigned c = 0; c < node.mNumChildren; ++c)
+    append_assimp_node(scene, *node.mChildren[c], transform, out);
+}
+
+TriangleMesh read_with_assimp(const std::filesystem::path& path) {
+  Assimp::Importer importer;
+  // No aiProcess_JoinIdenticalVertices: its spatial sort merges a NaN vertex into a neighbour, which
+  // would hide a corrupt file. clean_triangle_mesh welds exactly afterwards instead.
+  const aiScene* scene = importer.ReadFile(path.string(), aiProcess_Triangulate);
+  if (scene == nullptr || scene->mRootNode == nullptr)
+    throw InputError(fmt::format("cannot read mesh file '{}': {}; check that it is a complete, valid {} file",
+                                 path.string(), importer.GetErrorString(), lowercase_extension(path)));
+  TriangleMesh out;
+  append_assimp_node(*scene, *scene->mRootNode, aiMatrix4x4(), out);
+  return out;
+}
+
+class Lib3mfReader {
+ public:
+  explicit Lib3mfReader(const std::filesystem::path& path) : path_(path) {}
+
+  TriangleMesh read() {
+    NMR::PLib3MFModel* model = nullptr;
+    check(NMR::lib3mf_createmodel(&model), nullptr);
+    const Lib3mfHandle model_handle(model);
+    NMR::PLib3MFModelReader* reader = nullptr;
+    check(NMR::lib3mf_model_queryreader(model, "3mf", &reader), model);
+    const Lib3mfHandle reader_handle(reader);
+    check(NMR::lib3mf_reader_readfromfileutf8(reader, path_.string().c_str()), reader);
+
+    NMR::PLib3MFModelBuildItemIterator* items = nullptr;
+    check(NMR::lib3mf_model_getbuilditems(model, &items), model);
+    const Lib3mfHandle items_handle(items);
+    TriangleMesh out;
+    for (;;) {
+      BOOL has_next = 0;
+      check(NMR::lib3mf_builditemiterator_movenext(items, &has_next), items);
+      if (!has_next) break;
+      NMR::PLib3MFModelBuildItem* item = nullptr;
+      check(NMR::lib3mf_builditemiterator_getcurrent(items, &item), items);
+      const Lib3mfHandle item_handle(item);
+      NMR::PLib3MFModelObjectResource* object = nullptr;
+      check(NMR::lib3mf_builditem_getobjectresource(item, &object), item);
+      const Lib3mfHandle object_handle(object);
+      const Eigen::Affine3d transform = read_transform(item, NMR::lib3mf_builditem_hasobjecttransform,
+                                                       NMR::lib3mf_builditem_getobjecttransform);
+      append_object(object, transform, out, 0);
+    }
+    return out;
+  }
+
+ private:
+  // MODELTRANSFORM holds the 3x4 matrix [linear | translation] row by row.
+  static Eigen::Affine3d to_affine(const NMR::MODELTRANSFORM& t) {
+    Eigen::Affine3d a = Eigen::Affine3d::Identity();
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 4; ++c) a.matrix()(r, c) = t.m_fFields[r][c];
+    return a;
+  }
+
+  // Build items and components store their optional transform alike, behind different functions.
+  template <class Owner, class HasTransform, class GetTransform>
+  Eigen::Affine3d read_transform(Owner* owner, HasTransform has_transform, GetTransform get_transform) {
+    BOOL has = 0;
+    check(has_transform(owner, &has), owner);
+    if (!has) return Eigen::Affine3d::Identity();
+    NMR::MODELTRANSFORM t;
+    check(get_transform(owner, &t), owner);
+    return to_affine(t);
+  }
+
+  void append_object(NMR::PLib3MFModelObjectResource* object, const Eigen::Affine3d& transform,
+                     TriangleMesh& out, int depth) {
+    if (depth > 32)
+      throw InputError(fmt::format("3MF file '{}': components nest too deeply", path_.string()));
+    BOOL is_mesh = 0, is_components = 0;
+    check(NMR::lib3mf_object_ismeshobject(object, &is_mesh), object);
+    check(NMR::lib3mf_object_iscomponentsobject(object, &is_components), object);
+    if (is_mesh) {
+      DWORD nv = 0, nt = 0;
+      check(NMR::lib3mf_meshobject_getvertexcount(object, &nv), object);
+      check(NMR::lib3mf_meshobject_gettrianglecount(object, &nt), object);
+      std::vector<NMR::MODELMESHVERTEX> vertices(nv);
+      std::vector<NMR::MODELMESHTRIANGLE> triangles(nt);
+      if (nv > 0) check(NMR::lib3mf_meshobject_getvertices(object, vertices.data(), nv, nullptr), object);
+      if (nt > 0)
+        check(NMR::lib3mf_meshobject_gettriangleindices(object, triangles.data(), nt, nullptr), object);
+      const std::size_t base = out.vertices.size();
+      check_index_range(base + nv);
+      for (const auto& v : vertices)
+        out.vertices.push_back(transform * Vec3(v.m_fPosition[0], v.m_fPosition[1], v.m_fPosition[2]));
+      for (const auto& t : triangles)
+        append_triangle(out, base + t.m_nIndices[0], base + t.m_nIndices[1], base + t.m_nIndices[2]);
+    }
+    if (is_components) {
+      DWORD count = 0;
+      check(NMR::lib3mf_componentsobject_getcomponentcount(object, &count), object);
+      for (DWORD i = 0; i < count; ++i) {
+        NMR::PLib3MFModelComponent* component = nullptr;
+        check(NMR::lib3mf_componentsobject_getcomponent(object, i, &component), object);
+        const Lib3mfHandle component_handle(component);
+        NMR::PLib3MFModelObjectResource* child = nullptr;
+        check(NMR::lib3mf_component_getobjectresource(component, &child), component);
+        const Lib3mfHandle child_handle(child);
+        const Eigen::Affine3d local =
+            read_transform(component, NMR::lib3mf_component_hastransform, NMR::lib3mf_component_gettransform);
+        append_object(child, transform * local, out, depth + 1);
+      }
+    }
+  }
+
+  void check(LIB3MFRESULT result, NMR::PLib3MFBase* handle) const {
+    if (result == LIB3MF_OK) return;
+    const std::string message = lib3mf_error_text(result, handle);
+    throw InputError(
+        fmt::format("cannot read mesh file '{}': {}; check that it is a complete, valid .3mf file",
+                    path_.string(), message));
+  }
+
+  std::filesystem::path path_;
+};
+
+bool zero_area(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const double longest2 = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+  // Same rule as analyze_topology: collinear up to round-off, independent of the model's units.
+  return (b - a).cross(c - a).norm() <= 1e-14 * longest2;
+}
+
+}  // namespace
+
+MeshInputStats clean_triangle_mesh(TriangleMesh& mesh) {
+  const std::size_t nv = mesh.vertices.size();
+  std::vector<char> used(nv, 0);
+  for (std::size_t f = 0; f < mesh.triangles.size(); ++f)
+    for (std::int32_t v : mesh.triangles[f]) {
+      if (v < 0 || static_cast<std::size_t>(v) >= nv)
+        throw InputError(
+            fmt::format("triangle {} refers to vertex {}, but the mesh has {} vertices", f, v, nv));
+      used[v] = 1;
+    }
+  std::vector<std::int32_t> order;
+  for (std::size_t v = 0; v < nv; ++v) {
+    if (!used[v]) continue;
+    const Vec3& p = mesh.vertices[v];
+    if (!p.allFinite())
+      throw InputError(
+          fmt::format("vertex {} (counting from 0, as imported) has a non-finite coordinate ({}, {}, {}) "
+                      "(NaN or infinity): the file is corrupt; "
+                      "repair or re-export the mesh",
+                      v, p.x(), p.y(), p.z()));
+    order.push_back(static_cast<std::int32_t>(v));
+  }
+
+  // Exact weld: sorting by position puts identical vertices next to each other.
+  const auto less = [&](std::int32_t a, std::int32_t b) {
+    const Vec3 &p = mesh.vertices[a], &q = mesh.vertices[b];
+    return std::tie(p.x(), p.y(), p.z()) < std::tie(q.x(), q.y(), q.z());
+  };
+  std::stable_sort(order.begin(), order.end(), less);
+  std::vector<std::int32_t> remap(nv, -1);
+  std::vector<Vec3> vertices;
+  vertices.reserve(order.size());
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    if (i == 0 || less(order[i - 1], order[i])) vertices.push_back(mesh.vertices[order[i]]);
+    remap[order[i]] = static_cast<std::int32_t>(vertices.size() - 1);
+  }
+
+  MeshInputStats stats;
+  std::vector<std::array<std::int32_t, 3>> triangles;
+  triangles.reserve(mesh.triangles.size());
+  for (const auto& t : mesh.triangles) {
+    const std::array<std::int32_t, 3> r{remap[t[0]], remap[t[1]], remap[t[2]]};
+    if (r[0] == r[1] || r[1] == r[2] || r[0] == r[2] ||
+        zero_area(vertices[r[0]], vertices[r[1]], vertices[r[2]])) {
+      ++stats.dropped_degenerate;
+      continue;
+    }
+    triangles.push_back(r);
+  }
+  if (triangles.empty())
+    throw InputError(fmt::format("the mesh has no usable triangles ({} degenerate ones dropped)",
+                                 stats.dropped_degenerate));
+  // Drop vertices that only dropped triangles used.
+  std::vector<std::int32_t> compact(vertices.size(), -1);
+  mesh.vertices.clear();
+  for (auto& t : triangles)
+    for (std::int32_t& v : t) {
+      if (compact[v] < 0) {
+        compact[v] = static_cast<std::int32_t>(mesh.vertices.size());
+        mesh.vertices.push_back(vertices[v]);
+      }
+      v = compact[v];
+    }
+  mesh.triangles = std::move(triangles);
+  stats.vertices = static_cast<std::int64_t>(mesh.vertices.size());
+  stats.triangles = static_cast<std::int64_t>(mesh.triangles.size());
+  stats.boundary_edges = analyze_topology(mesh).boundary_edges;
+  return stats;
+}
+
+TriangleMesh read_triangle_mesh(const std::filesystem::path& path, MeshInputStats* stats) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec))
+    throw InputError(fmt::format("mesh file '{}' does not exist or is not a regular file", path.string()));
+  const std::string ext = lowercase_extension(path);
+  if (ext != ".stl" && ext != ".obj" && ext != ".ply" && ext != ".off" && ext != ".3mf")
+    throw InputError(fmt::format("mesh file '{}' has the unsupported extension '{}': use one of {}",
+                                 path.string(), ext, kSupported));
+  if (std::filesystem::file_size(path, ec) == 0 && !ec)
+    throw InputError(fmt::format("mesh file '{}' is empty (0 bytes)", path.string()));
+
+  TriangleMesh mesh = ext == ".3mf" ? Lib3mfReader(path).read() : read_with_assimp(path);
+  if (mesh.triangles.empty())
+    throw InputError(fmt::format("mesh file '{}' contains no triangles", path.string()));
+  try {
+    const MeshInputStats s = clean_triangle_mesh(mesh);
+    if (stats != nullptr) *stats = s;
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("mesh file '{}': {}", path.string(), e.what()));
+  }
+  return mesh;
+}
+
+}  // namespace poreshell

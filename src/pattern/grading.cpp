@@ -1,0 +1,147 @@
+#include "pattern/grading.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "core/error.hpp"
+#include "pattern/hole_map.hpp"
+
+namespace poreshell {
+namespace {
+
+constexpr const char* kForms =
+    "use axis:x|y|z:D1:D2, line:X,Y,Z:D1:X,Y,Z:D2, radial:X,Y,Z:R:D0 or field:NAME[:D0:D1] (lengths in mm)";
+
+std::vector<std::string> split(const std::string& text, char separator) {
+  std::vector<std::string> parts;
+  std::string part;
+  std::istringstream in(text);
+  while (std::getline(in, part, separator)) parts.push_back(part);
+  if (!text.empty() && text.back() == separator) parts.emplace_back();
+  return parts;
+}
+
+double number(const std::string& text, const std::string& whole) {
+  std::size_t used = 0;
+  double value = std::numeric_limits<double>::quiet_NaN();
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || !std::isfinite(value))
+    throw InputError("--grade '" + whole + "': '" + text + "' is not a number; " + kForms);
+  return value;
+}
+
+double diameter(const std::string& text, const std::string& whole) {
+  const double d = number(text, whole);
+  if (!(d > 0.0)) throw InputError("--grade '" + whole + "': hole diameters must be positive");
+  return d;
+}
+
+Vec3 point(const std::string& text, const std::string& whole) {
+  const std::vector<std::string> xyz = split(text, ',');
+  if (xyz.size() != 3) throw InputError("--grade '" + whole + "': a point is X,Y,Z; " + kForms);
+  return {number(xyz[0], whole), number(xyz[1], whole), number(xyz[2], whole)};
+}
+
+}  // namespace
+
+GradeSpec parse_grade(const std::string& text) {
+  const std::vector<std::string> p = split(text, ':');
+  GradeSpec g;
+  const std::string kind = p.empty() ? "" : p[0];
+  if (kind == "axis" && p.size() == 4) {
+    const std::string axes = "xyz";
+    if (p[1].size() != 1 || axes.find(p[1][0]) == std::string::npos)
+      throw InputError("--grade '" + text + "': the axis is x, y or z");
+    g.kind = GradeSpec::Kind::axis;
+    g.axis = static_cast<int>(axes.find(p[1][0]));
+    g.from_diameter = diameter(p[2], text);
+    g.to_diameter = diameter(p[3], text);
+  } else if (kind == "line" && p.size() == 5) {
+    g.kind = GradeSpec::Kind::line;
+    g.from = point(p[1], text);
+    g.from_diameter = diameter(p[2], text);
+    g.to = point(p[3], text);
+    g.to_diameter = diameter(p[4], text);
+    if (!((g.to - g.from).norm() > 0.0)) throw InputError("--grade '" + text + "': the two points coincide");
+  } else if (kind == "radial" && p.size() == 4) {
+    g.kind = GradeSpec::Kind::radial;
+    g.from = point(p[1], text);
+    g.radius = number(p[2], text);
+    if (!(g.radius > 0.0)) throw InputError("--grade '" + text + "': the radius must be positive");
+    g.from_diameter = diameter(p[3], text);
+  } else if (kind == "field" && (p.size() == 2 || p.size() == 4) && !p[1].empty()) {
+    g.kind = GradeSpec::Kind::field;
+    g.property = p[1];
+    if (p.size() == 4) {
+      g.mapped = true;
+      g.from_diameter = diameter(p[2], text);
+      g.to_diameter = diameter(p[3], text);
+    }
+  } else {
+    throw InputError("--grade '" + text + "' is not understood: " + kForms);
+  }
+  return g;
+}
+
+std::function<double(const Vec3&)> graded_diameter(const GradeSpec& spec, const Box& bounds, double base,
+                                                   std::function<double(const Vec3&)> field) {
+  const auto blend = [](double a, double b, double t) { return a + std::clamp(t, 0.0, 1.0) * (b - a); };
+  switch (spec.kind) {
+    case GradeSpec::Kind::axis: {
+      const double lo = bounds.min[spec.axis], extent = bounds.max[spec.axis] - lo;
+      return [=](const Vec3& x) {
+        return blend(spec.from_diameter, spec.to_diameter, extent > 0.0 ? (x[spec.axis] - lo) / extent : 0.0);
+      };
+    }
+    case GradeSpec::Kind::line: {
+      const Vec3 u = spec.to - spec.from;
+      return [=](const Vec3& x) {
+        return blend(spec.from_diameter, spec.to_diameter, (x - spec.from).dot(u) / u.squaredNorm());
+      };
+    }
+    case GradeSpec::Kind::radial:
+      return [=](const Vec3& x) {
+        const double t = std::clamp((x - spec.from).norm() / spec.radius, 0.0, 1.0);
+        return blend(spec.from_diameter, base, t * t * (3.0 - 2.0 * t));  // smoothstep: no kink at R
+      };
+    case GradeSpec::Kind::field:
+      if (!field)
+        throw InputError("--grade field:" + spec.property + " needs a PLY mesh with that vertex property");
+      if (!spec.mapped) return field;
+      return [=](const Vec3& x) { return blend(spec.from_diameter, spec.to_diameter, field(x)); };
+  }
+  return [base](const Vec3&) { return base; };
+}
+
+GradingSummary apply_grading(std::span<double> phi, std::span<const Vec3> positions_mm, double spacing,
+                             double level, const std::function<double(const Vec3&)>& diameter_at) {
+  GradingSummary s;
+  s.clamped_min = min_diameter_ratio() * spacing;
+  s.clamped_max = max_diameter_ratio() * spacing;
+  s.min_diameter = std::numeric_limits<double>::infinity();
+  s.max_diameter = -s.min_diameter;
+  std::size_t clamped = 0;
+  for (std::size_t v = 0; v < phi.size(); ++v) {
+    const double d = diameter_at(positions_mm[v]);
+    if (!std::isfinite(d))
+      throw InputError("the grading gives no finite hole diameter near (" +
+                       std::to_string(positions_mm[v].x()) + ", " + std::to_string(positions_mm[v].y()) +
+                       ", " + std::to_string(positions_mm[v].z()) + ") mm: check the field's values");
+    s.min_diameter = std::min(s.min_diameter, d);
+    s.max_diameter = std::max(s.max_diameter, d);
+    const double wanted = d / spacing;
+    const double ratio = std::clamp(wanted, min_diameter_ratio(), max_diameter_ratio());
+    if (ratio != wanted) ++clamped;
+    phi[v] += level - level_for_diameter_ratio(ratio);
+  }
+  s.clamped_fraction = phi.empty() ? 0.0 : static_cast<double>(clamped) / static_cast<double>(phi.size());
+  return s;
+}
+
+}  // namespace poreshell

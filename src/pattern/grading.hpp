@@ -1,0 +1,51 @@
+#pragma once
+// Hole-size grading (the paper's Figs. 13-14, generalised): a target hole diameter over the surface,
+// realised as a local pore level, so holes grow or shrink where asked while the pattern the solver
+// formed (hole positions and count) stays as it is. Diameters are in millimetres, like positions.
+//
+//   axis:x|y|z:D1:D2            D1 at the model's lowest extent along the axis to D2 at its highest
+//   line:X,Y,Z:D1:X,Y,Z:D2      D1 at the first point to D2 at the second, constant beyond them
+//   radial:X,Y,Z:R:D0           D0 at the centre, easing to the base diameter at distance R
+//   field:NAME[:D0:D1]          a scalar per vertex of a PLY mesh: diameters in mm, or 0..1 mapped to
+//                               D0..D1
+
+#include <functional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/types.hpp"
+
+namespace poreshell {
+
+struct GradeSpec {
+  enum class Kind { axis, line, radial, field } kind = Kind::axis;
+  Vec3 from = Vec3::Zero(), to = Vec3::Zero();    // line: the two points; radial: the centre in `from`
+  int axis = 2;                                   // axis: 0, 1, 2 for x, y, z
+  double from_diameter = 0.0, to_diameter = 0.0;  // axis, line, field (mapped); radial: from_diameter
+  double radius = 0.0;                            // radial
+  std::string property;                           // field
+  bool mapped = false;                            // field: values 0..1 mapped to from..to diameters
+};
+
+// Parses one --grade value; throws InputError naming the accepted forms.
+GradeSpec parse_grade(const std::string& text);
+
+// The target diameter at a point (mm), for a spec over a model with bounds `bounds` and a base
+// diameter (the request's); `field` evaluates the PLY property at a point (field specs only).
+std::function<double(const Vec3&)> graded_diameter(const GradeSpec& spec, const Box& bounds, double base,
+                                                   std::function<double(const Vec3&)> field = {});
+
+struct GradingSummary {
+  double min_diameter = 0.0, max_diameter = 0.0;  // requested over the band, mm
+  double clamped_fraction = 0.0;                // share of band voxels whose request left the printable range
+  double clamped_min = 0.0, clamped_max = 0.0;  // the printable range at this spacing, mm
+};
+
+// Shifts phi by (level - level(x)) so that {phi > level} has, near each voxel, the holes asked for
+// there; diameters outside [min, max] ratio times the spacing are clamped (no hole swallows its
+// neighbours, none closes up).
+GradingSummary apply_grading(std::span<double> phi, std::span<const Vec3> positions_mm, double spacing,
+                             double level, const std::function<double(const Vec3&)>& diameter_at);
+
+}  // namespace poreshell

@@ -1,0 +1,168 @@
+#include "pattern/pattern.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <numbers>
+
+namespace poreshell {
+
+std::vector<std::int32_t> label_spots(const NarrowBand& band, std::span<const double> phi, double level) {
+  const std::size_t n = band.size();
+  std::vector<std::int32_t> label(n, -1);
+  std::vector<std::size_t> stack;
+  std::int32_t next = 0;
+  for (std::size_t seed = 0; seed < n; ++seed) {
+    if (label[seed] >= 0 || !(phi[seed] > level)) continue;
+    label[seed] = next;
+    stack.push_back(seed);
+    while (!stack.empty()) {
+      const std::size_t v = stack.back();
+      stack.pop_back();
+      for (int k = 0; k < NarrowBand::kNeighbors; ++k) {
+        const auto nb = static_cast<std::size_t>(band.neighbor(v, k));
+        if (nb < n && label[nb] < 0 && phi[nb] > level) {
+          label[nb] = next;
+          stack.push_back(nb);
+        }
+      }
+    }
+    ++next;
+  }
+  return label;
+}
+
+namespace {
+
+double mean_of(const std::vector<double>& x) {
+  double sum = 0.0;
+  for (double v : x) sum += v;
+  return x.empty() ? 0.0 : sum / static_cast<double>(x.size());
+}
+
+double cv_of(const std::vector<double>& x) {
+  const double m = mean_of(x);
+  if (x.size() < 2 || m == 0.0) return 0.0;
+  double var = 0.0;
+  for (double v : x) var += (v - m) * (v - m);
+  return std::sqrt(var / static_cast<double>(x.size())) / m;
+}
+
+std::vector<double> nearest_neighbour_distances(std::vector<Vec3> points);
+
+}  // namespace
+
+HoleStats hole_statistics(const NarrowBand& band, std::span<const double> phi, double level,
+                          const std::function<bool(const Vec3&)>& counted) {
+  const std::vector<std::int32_t> label = label_spots(band, phi, level);
+  // Surface area carried by each voxel: h^2 hat(psi / h). The hat's shifts sum to one, so a column of
+  // voxels across the surface carries h^2 however the surface sits between grid points (counting voxels
+  // instead is off by up to 20% for a flat sheet aligned with the grid).
+  const double h = band.grid().h();
+  const auto area_of = [&](std::size_t v) {
+    return h * h * std::max(0.0, 1.0 - std::abs(band.distance()[v]) / h);
+  };
+  std::vector<Hole> all;
+  std::vector<std::int64_t> voxels;
+  double open_area = 0.0, total_area = 0.0;
+  for (std::size_t v = 0; v < label.size(); ++v) {
+    const double area = area_of(v);
+    total_area += area;
+    if (label[v] < 0) continue;
+    const auto l = static_cast<std::size_t>(label[v]);
+    if (l >= all.size()) {
+      all.resize(l + 1);
+      voxels.resize(l + 1, 0);
+    }
+    all[l].centroid += band.grid().position(band.voxels()[v]);
+    all[l].area += area;
+    ++voxels[l];
+    open_area += area;
+  }
+  HoleStats s;
+  s.porosity = total_area > 0.0 ? open_area / total_area : 0.0;
+  std::vector<Vec3> centroids;
+  for (std::size_t l = 0; l < all.size(); ++l) {
+    Hole& hole = all[l];
+    hole.centroid /= static_cast<double>(voxels[l]);
+    hole.diameter = 2.0 * std::sqrt(hole.area / std::numbers::pi);
+    centroids.push_back(hole.centroid);
+  }
+  const std::vector<double> nearest =
+      centroids.size() >= 2 ? nearest_neighbour_distances(centroids) : std::vector<double>(all.size(), 0.0);
+  std::vector<double> diameters, spacings;
+  for (std::size_t l = 0; l < all.size(); ++l) {
+    if (counted && !counted(all[l].centroid)) continue;
+    s.holes.push_back(all[l]);
+    diameters.push_back(all[l].diameter);
+    if (centroids.size() >= 2) spacings.push_back(nearest[l]);
+  }
+  s.diameter_mean = mean_of(diameters);
+  s.diameter_cv = cv_of(diameters);
+  s.spacing_mean = mean_of(spacings);
+  s.spacing_cv = cv_of(spacings);
+  return s;
+}
+
+namespace {
+
+// Nearest-neighbour distance of each point: points sorted along x, each scans outwards both ways
+// and stops where the x gap alone exceeds its best distance (about n sqrt(n) on a surface).
+// returned in the input's order.
+std::vector<double> nearest_neighbour_distances(std::vector<Vec3> points) {
+  std::vector<std::size_t> order(points.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return points[a].x() < points[b].x() || (points[a].x() == points[b].x() && a < b);
+  });
+  const auto n = static_cast<std::ptrdiff_t>(points.size());
+  std::vector<double> best(points.size(), std::numeric_limits<double>::infinity());
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    double& b = best[order[static_cast<std::size_t>(i)]];
+    const Vec3& p = points[order[static_cast<std::size_t>(i)]];
+    for (std::ptrdiff_t step : {-1, 1})
+      for (std::ptrdiff_t j = i + step; j >= 0 && j < n; j += step) {
+        const Vec3& q = points[order[static_cast<std::size_t>(j)]];
+        if (std::abs(q.x() - p.x()) >= b) break;
+        b = std::min(b, (q - p).norm());
+      }
+  }
+  return best;
+}
+
+}  // namespace
+
+SpotStats spot_statistics(const NarrowBand& band, std::span<const double> phi, double level) {
+  const std::vector<std::int32_t> label = label_spots(band, phi, level);
+  SpotStats s;
+  std::int64_t inside = 0;
+  for (std::int32_t l : label) {
+    if (l < 0) continue;
+    if (static_cast<std::size_t>(l) >= s.sizes.size()) s.sizes.resize(static_cast<std::size_t>(l) + 1, 0);
+    ++s.sizes[static_cast<std::size_t>(l)];
+    ++inside;
+  }
+  s.count = static_cast<std::int64_t>(s.sizes.size());
+  s.area_fraction = band.size() ? static_cast<double>(inside) / static_cast<double>(band.size()) : 0.0;
+  if (s.count == 0) return s;
+  const std::vector<double> sizes(s.sizes.begin(), s.sizes.end());
+  s.mean_size = mean_of(sizes);
+  s.size_cv = cv_of(sizes);
+
+  std::vector<Vec3> centroids(s.sizes.size(), Vec3::Zero());
+  for (std::size_t v = 0; v < label.size(); ++v)
+    if (label[v] >= 0) {
+      const Coord c = band.voxels()[v];
+      centroids[static_cast<std::size_t>(label[v])] += Vec3(c.i, c.j, c.k);
+    }
+  for (std::size_t l = 0; l < centroids.size(); ++l) centroids[l] /= static_cast<double>(s.sizes[l]);
+  if (centroids.size() >= 2) {
+    const std::vector<double> nearest = nearest_neighbour_distances(std::move(centroids));
+    s.spacing_mean = mean_of(nearest);
+    s.spacing_cv = cv_of(nearest);
+  }
+  return s;
+}
+
+}  // namespace poreshell

@@ -1,0 +1,50 @@
+#pragma once
+// Pattern statistics on the band: the spots {phi > level} as connected components of band voxels
+// (6-connectivity through the band's neighbour table).
+
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <vector>
+
+#include "band/band.hpp"
+
+namespace poreshell {
+
+struct SpotStats {
+  std::int64_t count = 0;
+  std::vector<std::int64_t> sizes;  // voxels per spot, in order of first voxel
+  double mean_size = 0.0;
+  double size_cv = 0.0;        // standard deviation / mean of the sizes
+  double area_fraction = 0.0;  // share of band voxels inside spots
+  // Distance from each spot's centroid to the nearest other centroid (grid units): mean and CV.
+  double spacing_mean = 0.0;
+  double spacing_cv = 0.0;
+};
+
+// Component label per band voxel (-1 outside every spot).
+std::vector<std::int32_t> label_spots(const NarrowBand& band, std::span<const double> phi, double level);
+
+SpotStats spot_statistics(const NarrowBand& band, std::span<const double> phi, double level);
+
+// The pores as a printer sees them: each spot's area on the surface (its band voxels times h^3 over
+// the band's thickness 2 delta) and the diameter of the disc of that area, in the grid's length unit.
+struct Hole {
+  Vec3 centroid = Vec3::Zero();
+  double area = 0.0;
+  double diameter = 0.0;
+};
+
+struct HoleStats {
+  std::vector<Hole> holes;  // the holes counted (see `counted` below), in order of first voxel
+  double diameter_mean = 0.0, diameter_cv = 0.0;
+  double spacing_mean = 0.0, spacing_cv = 0.0;  // centroid to nearest centroid (among all holes)
+  double porosity = 0.0;                        // open share of the surface's area (all holes)
+};
+
+// `counted` (optional) picks the holes that enter the diameter and spacing statistics by centroid,
+// e.g. away from a sheet's open edge where holes are cut; every hole stays a neighbour for spacing.
+HoleStats hole_statistics(const NarrowBand& band, std::span<const double> phi, double level,
+                          const std::function<bool(const Vec3&)>& counted = {});
+
+}  // namespace poreshell

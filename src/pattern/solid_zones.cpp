@@ -1,0 +1,106 @@
+#include "pattern/solid_zones.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <unordered_map>
+
+namespace poreshell {
+namespace {
+
+double segment_distance(const Vec3& p, const Segment& s) {
+  const Vec3 d = s[1] - s[0];
+  const double len2 = d.squaredNorm();
+  const double t = len2 > 0.0 ? std::clamp((p - s[0]).dot(d) / len2, 0.0, 1.0) : 0.0;
+  return (p - (s[0] + t * d)).norm();
+}
+
+// Segments bucketed by the cells of size `cell` that their boxes, grown by `cell`, overlap: every
+// segment within `cell` of a point is in the point's own bucket.
+class SegmentBuckets {
+ public:
+  SegmentBuckets(std::span<const Segment> segments, double cell) : segments_(segments), cell_(cell) {
+    for (std::size_t i = 0; i < segments.size(); ++i) {
+      const Vec3 lo = segments[i][0].cwiseMin(segments[i][1]) - Vec3::Constant(cell);
+      const Vec3 hi = segments[i][0].cwiseMax(segments[i][1]) + Vec3::Constant(cell);
+      const std::array<long long, 3> a = index(lo), b = index(hi);
+      for (long long k = a[2]; k <= b[2]; ++k)
+        for (long long j = a[1]; j <= b[1]; ++j)
+          for (long long c = a[0]; c <= b[0]; ++c) buckets_[key({c, j, k})].push_back(i);
+    }
+  }
+
+  double distance(const Vec3& p, double beyond) const {
+    const auto it = buckets_.find(key(index(p)));
+    double best = beyond;
+    if (it != buckets_.end())
+      for (std::size_t i : it->second) best = std::min(best, segment_distance(p, segments_[i]));
+    return best;
+  }
+
+ private:
+  std::array<long long, 3> index(const Vec3& p) const {
+    return {static_cast<long long>(std::floor(p.x() / cell_)),
+            static_cast<long long>(std::floor(p.y() / cell_)),
+            static_cast<long long>(std::floor(p.z() / cell_))};
+  }
+  static long long key(const std::array<long long, 3>& c) {
+    return (c[0] & 0x1FFFFF) | ((c[1] & 0x1FFFFF) << 21) | ((c[2] & 0x1FFFFF) << 42);
+  }
+
+  std::span<const Segment> segments_;
+  double cell_;
+  std::unordered_map<long long, std::vector<std::size_t>> buckets_;
+};
+
+}  // namespace
+
+std::vector<Segment> boundary_segments(const TriangleMesh& mesh) {
+  std::map<std::pair<std::int32_t, std::int32_t>, int> uses;
+  for (const auto& t : mesh.triangles)
+    for (int e = 0; e < 3; ++e) {
+      const std::int32_t a = t[e], b = t[(e + 1) % 3];
+      ++uses[{std::min(a, b), std::max(a, b)}];
+    }
+  std::vector<Segment> out;
+  for (const auto& [edge, count] : uses)
+    if (count == 1) out.push_back({mesh.vertices[edge.first], mesh.vertices[edge.second]});
+  return out;
+}
+
+// Signed distance to an axis-aligned box: negative inside (minus the distance to the nearest face).
+double box_distance(const Vec3& x, const KeepOutBox& b) {
+  const Vec3 outside = (b.min - x).cwiseMax(x - b.max);
+  return outside.cwiseMax(0.0).norm() + std::min(outside.maxCoeff(), 0.0);
+}
+
+std::vector<double> solid_zone_weight(const NarrowBand& band, std::span<const Segment> boundary, double rim,
+                                      std::span<const KeepOutSphere> keep_out, double ramp,
+                                      std::span<const KeepOutBox> boxes) {
+  std::vector<double> weight(band.size(), 0.0);
+  const double reach = rim + ramp;
+  const bool rims = rim > 0.0 && !boundary.empty();
+  const SegmentBuckets buckets(rims ? boundary : std::span<const Segment>{}, std::max(reach, 1e-12));
+  auto ramp_weight = [&](double inside_by) {  // inside_by >= 0: in the zone; -ramp: at its outer edge
+    return ramp > 0.0 ? std::clamp(1.0 + inside_by / ramp, 0.0, 1.0) : (inside_by >= 0.0 ? 1.0 : 0.0);
+  };
+  tbb::parallel_for(std::size_t{0}, band.size(), [&](std::size_t v) {
+    const Vec3 x = band.grid().position(band.voxels()[v]);
+    double w = 0.0;
+    if (rims) w = ramp_weight(rim - buckets.distance(x, 2.0 * reach));
+    for (const KeepOutSphere& s : keep_out) w = std::max(w, ramp_weight(s.radius - (x - s.center).norm()));
+    for (const KeepOutBox& b : boxes) w = std::max(w, ramp_weight(-box_distance(x, b)));
+    weight[v] = w;
+  });
+  return weight;
+}
+
+std::vector<double> mean_concentration_field(std::span<const double> weight, double phi_bar) {
+  std::vector<double> field(weight.size());
+  for (std::size_t v = 0; v < weight.size(); ++v) field[v] = phi_bar + (-1.0 - phi_bar) * weight[v];
+  return field;
+}
+
+}  // namespace poreshell

@@ -1,0 +1,39 @@
+#pragma once
+// Optional reduction of a printable mesh's triangle count (--max-triangles). The result stays
+// closed, 2-manifold and outward oriented, keeps its genus and components, has no degenerate
+// triangles, and stays within a stated distance of the original surface; a result failing any of
+// these is refused with an exception, never returned. New triangles have no angle below 10
+// degrees, except where they replace a sharper one (isosurface slivers go away, none get worse).
+
+#include <cstdint>
+
+#include "geometry/mesh.hpp"
+
+namespace poreshell {
+
+struct DecimateOptions {
+  std::int64_t max_triangles = 0;  // target count; >= 4
+  // Bound on the distance between the reduced and the original surface, both ways, in the mesh's
+  // units; > 0. Keep it well below half the thinnest wall, so that the two sides of a wall cannot
+  // meet.
+  double max_distance = 0.0;
+};
+
+struct DecimateResult {
+  std::int64_t triangles_before = 0, triangles_after = 0;
+  // Measured afterwards, both ways: from the reduced mesh's vertices, edge midpoints and centroids
+  // to the original surface, and from the original vertices to the reduced surface.
+  // Never above DecimateOptions::max_distance.
+  double max_distance = 0.0;
+  bool reached_target = false;  // false when the distance bound or the triangle shapes stopped it first
+};
+
+// Reduces `mesh` in place to at most options.max_triangles triangles, as far as the distance bound
+// allows, by edge collapses onto existing vertices (every vertex kept is an original one), in a
+// deterministic order. A mesh with no more triangles than the target is left untouched.
+// Throws InputError for bad options; std::runtime_error, leaving the mesh as it was, if the input
+// is not a closed, manifold, outward oriented mesh without degenerate triangles or if the result
+// fails a check.
+DecimateResult decimate_mesh(TriangleMesh& mesh, const DecimateOptions& options);
+
+}  // namespace poreshell

@@ -1,0 +1,198 @@
+#include "shell/shell.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "band/band_scan.hpp"
+#include "core/error.hpp"
+#include "geometry/isosurface.hpp"
+
+namespace poreshell {
+namespace {
+
+constexpr int kTopBlock = 64;  // side of the blocks the scan starts from (one task each)
+// Samples beyond the slab, so that every cube with a corner inside has all 8: a cube's corners lie
+// within its diagonal, sqrt(3) cells, of each other and the distance is 1-Lipschitz (a little more
+// than sqrt(3) against rounding).
+constexpr double kReachCells = 1.7325;
+constexpr double kMarginCells = 4.0;  // the shell grid's extent beyond the slab: the reach and spare cells
+
+struct Sample {
+  Coord point;
+  double wall, pattern;
+  bool incomplete;
+};
+
+}  // namespace
+
+WallOffset parse_wall_offset(const std::string& name) {
+  if (name == "centered") return WallOffset::centered;
+  if (name == "inside") return WallOffset::inside;
+  if (name == "outside") return WallOffset::outside;
+  throw InputError("unknown --offset '" + name +
+                   "': use centered (wall around the surface), inside or outside (wall on that side)");
+}
+
+std::string to_string(WallOffset offset) {
+  switch (offset) {
+    case WallOffset::inside:
+      return "inside";
+    case WallOffset::outside:
+      return "outside";
+    default:
+      return "centered";
+  }
+}
+
+double interpolate_band(const NarrowBand& band, std::span<const double> phi, const Vec3& p, bool* complete) {
+  const PointStencil s = interpolation_stencil(band, p);
+  if (complete != nullptr) *complete = s.complete;
+  return s.present_weight > 0.0 ? s.interpolate(phi) : -1.0;
+}
+
+ShellSamples sample_shell(const Surface& surface, const NarrowBand& band, std::span<const double> phi,
+                          const ShellOptions& options) {
+  const double t = options.thickness;
+  if (!(t > 0.0) || !std::isfinite(t)) throw InputError("the wall thickness must be a positive length");
+  if (!(options.pattern_length > 0.0)) throw std::invalid_argument("shell: pattern_length must be > 0");
+  if (phi.size() < band.size()) throw std::invalid_argument("shell: one phi value per band voxel needed");
+  const double h =
+      options.spacing > 0.0 ? options.spacing : std::min(band.grid().h(), t / kMinCellsAcrossWall);
+  const double center_offset = options.offset == WallOffset::inside    ? -0.5 * t
+                               : options.offset == WallOffset::outside ? 0.5 * t
+                                                                       : 0.0;
+  const double reach = std::abs(center_offset) + 0.5 * t + kReachCells * h;  // in unsigned distance
+
+  // A grid of spacing h around the surface's box, spare cells beyond the reach on every side.
+  const Box box = surface.bounds();
+  const Vec3 margin = Vec3::Constant(std::abs(center_offset) + 0.5 * t + kMarginCells * h);
+  const bool exact = surface.closest_point_is_exact();
+  // On the band's own grid points where the spacing is the band's: there a sample that is a band voxel
+  // takes the band's exact closest point instead of a surface query (about half the samples when the
+  // wall is about as thick as the band; the queries were most of the sampling's time).
+  const Grid& band_grid = band.grid();
+  const bool on_band_grid = exact && h == band_grid.h();
+  Vec3 grid_origin = box.min - margin;
+  Coord to_band{0, 0, 0};
+  if (on_band_grid) {
+    const Vec3 cells = ((grid_origin - band_grid.origin()) / h).array().floor();
+    grid_origin = band_grid.origin() + h * cells;
+    to_band = {static_cast<int>(cells.x()), static_cast<int>(cells.y()), static_cast<int>(cells.z())};
+  }
+  const Vec3 extent = box.max + margin - grid_origin;
+  std::array<int, 3> dims{};
+  for (int a = 0; a < 3; ++a) {
+    const double n = std::ceil(extent[a] / h) + 1.0;
+    if (n > 1 << 20)
+      throw InputError("the shell's grid would be too large: choose a larger voxel size or wall");
+    dims[a] = static_cast<int>(n);
+  }
+  ShellSamples out;
+  out.grid = Grid(grid_origin, h, dims);
+  out.pattern_length = options.pattern_length;
+
+  const bool signed_needed = options.offset != WallOffset::centered;
+  // One test per grid point that also samples it, so that the query deciding whether the point is near
+  // enough gives its closest point too. An exact closest point gives the unsigned distance (|x - cp|):
+  // one query per sample. Otherwise (or with no closest point) the distance and closest_point_at, as
+  // for any surface.
+  const auto sample = [&](const Coord& c, std::vector<Sample>& samples) -> double {
+    const Vec3 x = out.grid.position(c);
+    std::optional<Vec3> cp;
+    if (on_band_grid) {
+      const std::int64_t v = band.find({c.i + to_band.i, c.j + to_band.j, c.k + to_band.k});
+      if (v >= 0) cp = band.closest_point(static_cast<std::size_t>(v));
+    }
+    if (exact && !cp) cp = surface.closest_point(x);
+    double d = 0.0;
+    if (cp) {
+      d = (x - *cp).norm();
+      if (!(d <= reach)) return d;
+      // Only the surface's own distance has the sign when no side test is given.
+      if (signed_needed && !options.side) d = surface.distance(x);
+    } else {
+      d = surface.distance(x);
+      if (!(std::abs(d) <= reach)) return std::abs(d);
+      cp = closest_point_at(surface, x, h, ClosestPointRule::exact);
+    }
+    const Vec3 p = cp.value_or(x);
+    if (signed_needed && options.side) d = std::copysign(std::abs(d), options.side(x, p));
+    bool complete = true;
+    const double pattern = interpolate_band(band, phi, p, &complete);
+    samples.push_back({c, std::abs(d - center_offset) - 0.5 * t, pattern, !complete});
+    return 0.0;  // within reach
+  };
+
+  const std::array<int, 3> tops{(dims[0] + kTopBlock - 1) / kTopBlock, (dims[1] + kTopBlock - 1) / kTopBlock,
+                                (dims[2] + kTopBlock - 1) / kTopBlock};
+  const std::size_t top_count = std::size_t(tops[0]) * std::size_t(tops[1]) * std::size_t(tops[2]);
+  std::vector<std::vector<Sample>> per_block(top_count);
+  tbb::parallel_for(std::size_t{0}, top_count, [&](std::size_t b) {
+    const Coord origin{static_cast<int>(b % std::size_t(tops[0])) * kTopBlock,
+                       static_cast<int>((b / std::size_t(tops[0])) % std::size_t(tops[1])) * kTopBlock,
+                       static_cast<int>(b / (std::size_t(tops[0]) * std::size_t(tops[1]))) * kTopBlock};
+    std::vector<Sample>& samples = per_block[b];
+    for_each_point_near(surface, out.grid, origin, kTopBlock, reach,
+                        [&](const Coord& c) { return sample(c, samples); });
+    std::sort(samples.begin(), samples.end(), [&](const Sample& p, const Sample& q) {
+      return out.grid.key(p.point) < out.grid.key(q.point);
+    });
+  });
+  // Written in key order, so the isosurface needs no sorted copy of its own (two extractions read these
+  // samples). Key order within a layer of top blocks is plane by plane, row by row, and each row is
+  // the same row of the blocks along x in turn: a merge without a copy of all samples.
+  std::vector<std::size_t> layer_first(static_cast<std::size_t>(tops[2]) + 1, 0);
+  for (std::size_t b = 0; b < top_count; ++b)
+    layer_first[b / (std::size_t(tops[0]) * std::size_t(tops[1])) + 1] += per_block[b].size();
+  for (std::size_t l = 0; l < static_cast<std::size_t>(tops[2]); ++l) layer_first[l + 1] += layer_first[l];
+  const std::size_t total = layer_first.back();
+  out.points.resize(total);
+  out.wall.resize(total);
+  out.pattern.resize(total);
+  std::vector<std::int64_t> incomplete(static_cast<std::size_t>(tops[2]), 0);
+  tbb::parallel_for(std::size_t{0}, static_cast<std::size_t>(tops[2]), [&](std::size_t l) {
+    const std::size_t blocks_in_layer = std::size_t(tops[0]) * std::size_t(tops[1]);
+    std::vector<std::size_t> cursor(blocks_in_layer, 0);
+    std::size_t n = layer_first[l];
+    const int k_end = std::min(static_cast<int>(l + 1) * kTopBlock, dims[2]);
+    for (int k = static_cast<int>(l) * kTopBlock; k < k_end; ++k)
+      for (int j = 0; j < dims[1]; ++j)
+        for (std::size_t bi = 0; bi < std::size_t(tops[0]); ++bi) {
+          const std::size_t in_layer = bi + std::size_t(tops[0]) * std::size_t(j / kTopBlock);
+          const std::vector<Sample>& block = per_block[l * blocks_in_layer + in_layer];
+          for (std::size_t& c = cursor[in_layer];
+               c < block.size() && block[c].point.k == k && block[c].point.j == j; ++c, ++n) {
+            out.points[n] = block[c].point;
+            out.wall[n] = block[c].wall;
+            out.pattern[n] = block[c].pattern;
+            incomplete[l] += block[c].incomplete;
+          }
+        }
+    for (std::size_t b = 0; b < blocks_in_layer; ++b) per_block[l * blocks_in_layer + b] = {};
+  });
+  for (std::int64_t count : incomplete) out.incomplete_stencils += count;
+  return out;
+}
+
+TriangleMesh shell_mesh(const ShellSamples& samples, double iso) {
+  std::vector<double> values(samples.points.size());
+  tbb::parallel_for(std::size_t{0}, values.size(), [&](std::size_t n) {
+    values[n] = std::max(samples.wall[n], samples.pattern_length * (samples.pattern[n] - iso));
+  });
+  const SparseField field{&samples.grid, samples.points, values, samples.grid.h()};
+  return extract_isosurface(field, 0.0);
+}
+
+TriangleMesh unperforated_shell_mesh(const ShellSamples& samples) {
+  const SparseField field{&samples.grid, samples.points, samples.wall, samples.grid.h()};
+  return extract_isosurface(field, 0.0);
+}
+
+std::int64_t unperforated_shell_euler(const ShellSamples& samples) {
+  const SparseField field{&samples.grid, samples.points, samples.wall, samples.grid.h()};
+  return isosurface_euler_characteristic(field, 0.0);
+}
+
+}  // namespace poreshell

@@ -1,0 +1,26 @@
+#pragma once
+// The wall thickness of a solid as written, measured on its mesh: from a point inside the wall, the
+// distance to the mesh along +n and along -n (the first crossing of a ray each way), summed. What a
+// caliper across the wall would read.
+
+#include <span>
+
+#include "geometry/mesh.hpp"
+
+namespace poreshell {
+
+struct WallProbe {
+  Vec3 start = Vec3::Zero();    // inside the solid wall
+  Vec3 normal = Vec3::UnitZ();  // unit, across the wall
+};
+
+// The median is what the wall is; the extremes show where probes met a pore's rim (its facets stand
+// a fraction of a cell into the bridge beside it) or a fold of the model.
+struct WallMeasurement {
+  std::size_t probes = 0;  // probes that met the surface on both sides
+  double median = 0.0, min = 0.0, max = 0.0;
+};
+
+WallMeasurement measure_wall(const TriangleMesh& solid, std::span<const WallProbe> probes, double max_length);
+
+}  // namespace poreshell

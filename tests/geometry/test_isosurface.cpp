@@ -1,0 +1,259 @@
+// Isosurface extraction: topology of thin shells (spheres, pores, tori), random fields with
+// ambiguous and exactly-at-iso values, determinism across thread counts, world coordinates.
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <numbers>
+#include <random>
+
+#include "core/error.hpp"
+#include "geometry/isosurface.hpp"
+
+namespace poreshell {
+namespace {
+
+struct Field {
+  Grid grid;
+  std::vector<Coord> points;
+  std::vector<double> values;
+  SparseField view(double background = 1.0) const { return {&grid, points, values, background}; }
+};
+
+// A thin shell around the surface {distance(x) = 0} as the pipeline produces it: -1 within 1.5h
+// of the surface, rising to +1 at 2.5h; points are kept only where |distance| < 3h.
+Field shell_field(int n, const std::function<double(const Vec3&)>& distance) {
+  Field f{Grid(Vec3(0, 0, 0), 1.0, {n, n, n}), {}, {}};
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const Coord c{i, j, k};
+        const double d = std::abs(distance(f.grid.position(c)));
+        if (d >= 3.0) continue;
+        f.points.push_back(c);
+        f.values.push_back(std::clamp(d - 1.5, -1.0, 1.0));
+      }
+  return f;
+}
+
+Field sphere_shell(int n, double radius) {
+  const Vec3 center = Vec3::Constant((n - 1) / 2.0);
+  return shell_field(n, [=](const Vec3& p) { return (p - center).norm() - radius; });
+}
+
+void expect_valid(const MeshTopology& t) {
+  EXPECT_GT(t.triangles, 0);
+  EXPECT_TRUE(t.closed()) << t.boundary_edges << " boundary edges";
+  EXPECT_EQ(t.nonmanifold_edges, 0);
+  EXPECT_EQ(t.nonmanifold_vertices, 0);
+  EXPECT_EQ(t.misoriented_edges, 0);
+  EXPECT_EQ(t.degenerate_triangles, 0);
+  EXPECT_GT(t.signed_volume, 0.0);
+}
+
+TEST(Isosurface, SphereShellIsTwoSpheres) {
+  const double radius = 12.0;
+  const Field f = sphere_shell(33, radius);
+  for (double iso : {-0.3, 0.0, 0.3}) {
+    SCOPED_TRACE(iso);
+    const MeshTopology t = analyze_topology(extract_isosurface(f.view(), iso));
+    expect_valid(t);
+    EXPECT_EQ(t.components, 2);
+    EXPECT_EQ(t.euler_characteristic, 4);
+    const double thickness = 2 * (1.5 + iso);  // where the clamped ramp crosses iso
+    const double expected = 4 * std::numbers::pi * radius * radius * thickness;
+    EXPECT_NEAR(t.signed_volume, expected, 0.15 * expected);
+  }
+}
+
+TEST(Isosurface, NoSliversWhereTheSurfacePassesNearGridPoints) {
+  // Sphere shells at radii whose surface grazes many grid points: crossings next to a grid point are
+  // kept a twentieth of an edge away from it, so no triangle gets an angle under 1 degree.
+  for (double radius : {10.0, 10.5, 11.0, 12.0, 12.25}) {
+    SCOPED_TRACE(radius);
+    const Field f = sphere_shell(33, radius);
+    const MeshTopology t = analyze_topology(extract_isosurface(f.view(), 0.0));
+    expect_valid(t);
+    EXPECT_GT(t.min_angle_degrees, 1.0);
+  }
+}
+
+TEST(Isosurface, EachPoreThroughTheShellLowersEulerByTwo) {
+  const int n = 33;
+  const Vec3 center = Vec3::Constant((n - 1) / 2.0);
+  const Vec3 axes[6] = {Vec3::UnitX(),  -Vec3::UnitX(), Vec3::UnitY(),
+                        -Vec3::UnitY(), Vec3::UnitZ(),  -Vec3::UnitZ()};
+  for (int pores : {1, 2, 3, 6}) {
+    SCOPED_TRACE(pores);
+    Field f = sphere_shell(n, 12.0);
+    for (std::size_t p = 0; p < f.points.size(); ++p) {
+      const Vec3 dir = (f.grid.position(f.points[p]) - center).normalized();
+      for (int a = 0; a < pores; ++a)
+        if ((dir - axes[a]).norm() < 0.3) f.values[p] = 1.0;  // a disk of radius ~3.6h
+    }
+    for (double iso : {-0.3, 0.0, 0.3}) {
+      const MeshTopology t = analyze_topology(extract_isosurface(f.view(), iso));
+      expect_valid(t);
+      EXPECT_EQ(t.components, 1);
+      EXPECT_EQ(t.euler_characteristic, 4 - 2 * pores) << "iso " << iso;
+      EXPECT_EQ(isosurface_euler_characteristic(f.view(), iso), 4 - 2 * pores) << "iso " << iso;
+    }
+  }
+}
+
+TEST(Isosurface, TorusShellIsTwoTori) {
+  const int n = 41;
+  const Vec3 center = Vec3::Constant((n - 1) / 2.0);
+  const Field f = shell_field(n, [=](const Vec3& p) {
+    const Vec3 q = p - center;
+    return std::hypot(std::hypot(q.x(), q.y()) - 11.0, q.z()) - 5.0;
+  });
+  const MeshTopology t = analyze_topology(extract_isosurface(f.view(), 0.0));
+  expect_valid(t);
+  EXPECT_EQ(t.components, 2);
+  EXPECT_EQ(t.euler_characteristic, 0);
+  EXPECT_EQ(isosurface_euler_characteristic(f.view(), 0.0), 0);
+}
+
+// Euler characteristic of the solid {value < iso}, computed independently of the mesh: the
+// solid retracts onto the Kuhn simplices whose vertices are all inside, so chi(solid) is their
+// alternating count, and the boundary of a 3-manifold has chi = 2 chi(solid).
+std::int64_t solid_euler(const Field& f, double iso, int n) {
+  auto inside = [&](int i, int j, int k) {
+    if (i < 0 || j < 0 || k < 0 || i >= n || j >= n || k >= n) return false;
+    return f.values[i + n * (j + n * k)] < iso;
+  };
+  auto in = [&](const Coord& p, int bits) {
+    return inside(p.i + (bits & 1), p.j + (bits >> 1 & 1), p.k + (bits >> 2));
+  };
+  std::int64_t chi = 0;
+  for (const Coord& p : f.points) {
+    if (!in(p, 0)) continue;
+    chi += 1;
+    for (int d = 1; d < 8; ++d) chi -= in(p, d);  // edges p -> p + d
+    for (int d1 = 1; d1 < 8; ++d1)                // triangles p, p + d1, p + d1 + d2
+      for (int d2 = 1; d2 < 8; ++d2)
+        if ((d1 & d2) == 0) chi += in(p, d1) && in(p, d1 | d2);
+    for (int a : {1, 2, 4})  // tetrahedra p, +a, +a+b, +111
+      for (int b : {1, 2, 4})
+        if (a != b) chi -= in(p, a) && in(p, a | b) && in(p, 7);
+  }
+  return 2 * chi;
+}
+
+TEST(Isosurface, RandomFieldsGiveClosedManifoldsWithTheRightEuler) {
+  const int n = 8;
+  for (unsigned seed = 1; seed <= 30; ++seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+    std::uniform_int_distribution<int> level(0, 4);
+    const double quantized[5] = {-1.0, -0.3, 0.0, 0.3, 1.0};  // many values exactly at an iso level
+    Field f{Grid(Vec3(0, 0, 0), 1.0, {n, n, n}), {}, {}};
+    for (int k = 0; k < n; ++k)
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+          f.points.push_back({i, j, k});
+          f.values.push_back(seed % 2 ? uniform(rng) : quantized[level(rng)]);
+        }
+    for (double iso : {-0.3, 0.0, 0.3}) {
+      SCOPED_TRACE(testing::Message() << "seed " << seed << " iso " << iso);
+      const MeshTopology t = analyze_topology(extract_isosurface(f.view(), iso));
+      expect_valid(t);
+      EXPECT_EQ(t.euler_characteristic, solid_euler(f, iso, n));
+      EXPECT_EQ(isosurface_euler_characteristic(f.view(), iso), t.euler_characteristic);
+    }
+  }
+}
+
+TEST(Isosurface, SameBytesForAnyThreadCount) {
+  Field f = sphere_shell(45, 18.0);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> noise(-0.5, 0.5);
+  for (double& v : f.values) v = std::clamp(v + noise(rng), -1.0, 1.0);
+  auto run = [&](int threads) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    return extract_isosurface(f.view(), 0.0);
+  };
+  const TriangleMesh one = run(1), two = run(2);
+  ASSERT_GT(one.triangles.size(), 10000u);  // enough cells for several parallel chunks
+  EXPECT_EQ(one.triangles, two.triangles);
+  ASSERT_EQ(one.vertices.size(), two.vertices.size());
+  for (std::size_t v = 0; v < one.vertices.size(); ++v) ASSERT_EQ(one.vertices[v], two.vertices[v]) << v;
+}
+
+// Points in key order are read as they are, others through a sorted copy: the same mesh either way.
+TEST(Isosurface, SameMeshForPointsInAnyOrder) {
+  const Field sorted = sphere_shell(29, 10.0);  // made in key order
+  Field shuffled = sorted;
+  std::vector<std::size_t> order(sorted.points.size());
+  for (std::size_t n = 0; n < order.size(); ++n) order[n] = n;
+  std::shuffle(order.begin(), order.end(), std::mt19937(3));
+  for (std::size_t n = 0; n < order.size(); ++n) {
+    shuffled.points[n] = sorted.points[order[n]];
+    shuffled.values[n] = sorted.values[order[n]];
+  }
+  const TriangleMesh a = extract_isosurface(sorted.view(), 0.0), b = extract_isosurface(shuffled.view(), 0.0);
+  ASSERT_GT(a.triangles.size(), 1000u);
+  EXPECT_EQ(a.triangles, b.triangles);
+  EXPECT_EQ(a.vertices, b.vertices);
+  // A point given twice is refused on both paths.
+  for (Field twice : {sorted, shuffled}) {
+    twice.points.insert(twice.points.begin() + 5, twice.points[5]);
+    twice.values.insert(twice.values.begin() + 5, twice.values[5]);
+    EXPECT_THROW(extract_isosurface(twice.view(), 0.0), std::invalid_argument);
+  }
+}
+
+TEST(Isosurface, VerticesAreInWorldCoordinates) {
+  const Vec3 origin(-2.5, 1.25, 10.0);
+  const double h = 0.37;
+  Field f{Grid(origin, h, {17, 23, 31}), {}, {}};
+  // A box of inside points (i in [0, 10] touches the grid's low x face), ringed by outside ones.
+  for (int k = 4; k <= 21; ++k)
+    for (int j = 3; j <= 16; ++j)
+      for (int i = 0; i <= 11; ++i) {
+        const bool in = i <= 10 && j >= 4 && j <= 15 && k >= 5 && k <= 20;
+        f.points.push_back({i, j, k});
+        f.values.push_back(in ? -1.0 : 1.0);
+      }
+  const TriangleMesh mesh = extract_isosurface(f.view(), 0.0);
+  const MeshTopology t = analyze_topology(mesh);
+  expect_valid(t);
+  EXPECT_EQ(t.euler_characteristic, 2);
+  Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
+  for (const Vec3& v : mesh.vertices) {
+    lo = lo.cwiseMin(v);
+    hi = hi.cwiseMax(v);
+  }
+  // Crossings sit halfway between the last inside and first outside point.
+  const Vec3 want_lo = origin + h * Vec3(-0.5, 3.5, 4.5), want_hi = origin + h * Vec3(10.5, 15.5, 20.5);
+  EXPECT_LT((lo - want_lo).norm(), 1e-9) << lo.transpose();
+  EXPECT_LT((hi - want_hi).norm(), 1e-9) << hi.transpose();
+  const double box = (want_hi - want_lo).prod();
+  EXPECT_NEAR(t.signed_volume, box, 0.1 * box);
+}
+
+TEST(Isosurface, EmptySolidAndBadIsoLevel) {
+  Field f{Grid(Vec3(0, 0, 0), 1.0, {4, 4, 4}), {{1, 1, 1}}, {0.5}};
+  EXPECT_TRUE(extract_isosurface(f.view(), 0.0).triangles.empty());
+  EXPECT_THROW(extract_isosurface(f.view(1.0), 1.0), InputError);
+}
+
+TEST(Isosurface, LargeSphereShellTiming) {
+  const Field f = sphere_shell(111, 51.0);
+  const auto start = std::chrono::steady_clock::now();
+  const TriangleMesh mesh = extract_isosurface(f.view(), 0.0);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::cout << f.points.size() << " points -> " << mesh.triangles.size() << " triangles in " << seconds
+            << " s\n";
+  const MeshTopology t = analyze_topology(mesh);
+  expect_valid(t);
+  EXPECT_EQ(t.euler_characteristic, 4);
+}
+
+}  // namespace
+}  // namespace poreshell

@@ -1,0 +1,595 @@
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <random>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "band/band.hpp"
+#include "core/error.hpp"
+#include "geometry/mesh_surface.hpp"
+#include "io/mesh_io.hpp"
+
+using namespace poreshell;
+namespace fs = std::filesystem;
+
+namespace {
+
+// ---------- meshes ----------
+
+TriangleMesh icosphere(int subdivisions, const Vec3& center, double radius) {
+  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
+  TriangleMesh m;
+  m.vertices = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+                {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
+  m.triangles = {{0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+                 {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
+                 {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+  for (auto& v : m.vertices) v.normalize();
+  for (int s = 0; s < subdivisions; ++s) {
+    std::map<std::pair<int, int>, int> midpoint;
+    const auto mid = [&](int a, int b) {
+      const auto key = std::minmax(a, b);
+      if (auto it = midpoint.find(key); it != midpoint.end()) return it->second;
+      m.vertices.push_back((m.vertices[a] + m.vertices[b]).normalized());
+      return midpoint[key] = static_cast<int>(m.vertices.size() - 1);
+    };
+    std::vector<std::array<std::int32_t, 3>> next;
+    for (const auto& f : m.triangles) {
+      const int ab = mid(f[0], f[1]), bc = mid(f[1], f[2]), ca = mid(f[2], f[0]);
+      next.push_back({f[0], ab, ca});
+      next.push_back({f[1], bc, ab});
+      next.push_back({f[2], ca, bc});
+      next.push_back({ab, bc, ca});
+    }
+    m.triangles = next;
+  }
+  for (auto& v : m.vertices) v = center + radius * v;
+  return m;
+}
+
+// Open, curved sheet z = f(x, y) over [lo, hi]^2.
+TriangleMesh bumpy_sheet(int n, double lo, double hi) {
+  TriangleMesh m;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      const double x = lo + (hi - lo) * i / n, y = lo + (hi - lo) * j / n;
+      m.vertices.emplace_back(x, y, 0.5 + 0.05 * std::sin(9 * x) * std::cos(7 * y));
+    }
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const int a = j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
+      m.triangles.push_back({a, b, d});
+      m.triangles.push_back({a, d, c});
+    }
+  return m;
+}
+
+// Icosphere with a cap of triangles removed: a scan with a hole.
+TriangleMesh holed_sphere() {
+  TriangleMesh m = icosphere(2, Vec3(0.1, -0.2, 0.3), 0.7);
+  std::erase_if(m.triangles, [&](const auto& t) {
+    return (m.vertices[t[0]] + m.vertices[t[1]] + m.vertices[t[2]]).z() / 3 > 0.3 + 0.45;
+  });
+  return m;
+}
+
+// ---------- independent reference: plane projection if inside, else nearest edge ----------
+
+Vec3 ref_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
+  const Vec3 ab = b - a;
+  const double l2 = ab.squaredNorm();
+  if (l2 == 0) return a;
+  return a + std::clamp((p - a).dot(ab) / l2, 0.0, 1.0) * ab;
+}
+
+Vec3 ref_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 n = (b - a).cross(c - a);
+  const double longest2 = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+  if (n.norm() > 1e-12 * longest2) {  // else collinear up to round-off: the edges are the triangle
+    const Vec3 q = p - n * (n.dot(p - a) / n.squaredNorm());
+    // Barycentric signs from sub-triangle normals.
+    const double u = n.dot((c - b).cross(q - b)), v = n.dot((a - c).cross(q - c)),
+                 w = n.dot((b - a).cross(q - a));
+    if (u >= 0 && v >= 0 && w >= 0) return q;
+  }
+  Vec3 best = ref_segment(p, a, b);
+  for (const Vec3& q : {ref_segment(p, b, c), ref_segment(p, c, a)})
+    if ((q - p).norm() < (best - p).norm()) best = q;
+  return best;
+}
+
+struct Nearest {
+  double distance;
+  Vec3 point;
+};
+
+Nearest brute_force(const TriangleMesh& m, const Vec3& p) {
+  Nearest best{INFINITY, Vec3::Zero()};
+  for (const auto& t : m.triangles) {
+    const Vec3 q = ref_triangle(p, m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]);
+    if ((q - p).norm() < best.distance) best = {(q - p).norm(), q};
+  }
+  return best;
+}
+
+std::vector<Vec3> query_points(const TriangleMesh& m, int count, std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::uniform_int_distribution<std::size_t> pick(0, m.vertices.size() - 1);
+  std::vector<Vec3> points;
+  for (int i = 0; i < count; ++i) {
+    const Vec3 r(u(rng), u(rng), u(rng));
+    if (i % 3 == 0)
+      points.push_back(m.vertices[pick(rng)] + 0.02 * r);  // near
+    else if (i % 3 == 1)
+      points.push_back(2.0 * r);  // around
+    else
+      points.push_back(50.0 * r);  // far
+  }
+  return points;
+}
+
+void expect_matches_brute_force(const TriangleMesh& m, int count) {
+  const MeshSurface surface(m);
+  std::mt19937 rng(7);
+  for (const Vec3& p : query_points(m, count, rng)) {
+    const Nearest ref = brute_force(m, p);
+    const double tol = 1e-12 * (1.0 + ref.distance + p.norm());
+    const double d = surface.distance(p);
+    ASSERT_NEAR(d, ref.distance, tol) << "at " << p.transpose();
+    const Vec3 cp = *surface.closest_point(p);
+    EXPECT_NEAR((cp - p).norm(), ref.distance, tol);
+    EXPECT_LT(brute_force(m, cp).distance, tol) << "closest point is not on the mesh";
+  }
+}
+
+// ---------- files ----------
+
+const std::vector<Vec3> kTetVertices{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+const std::vector<std::array<int, 3>> kTetTriangles{{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+
+fs::path temp_dir() {
+  const fs::path dir =
+      fs::temp_directory_path() / ("poreshell_test_mesh_surface_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  return dir;
+}
+
+fs::path write_text(const std::string& name, const std::string& text) {
+  const fs::path p = temp_dir() / name;
+  std::ofstream(p, std::ios::binary) << text;
+  return p;
+}
+
+std::string tet_ascii_stl() {
+  std::string s = "solid tet\n";
+  for (const auto& t : kTetTriangles) {
+    s += "facet normal 0 0 0\nouter loop\n";
+    for (int v : t) {
+      const Vec3& p = kTetVertices[v];
+      s += "vertex " + std::to_string(p.x()) + " " + std::to_string(p.y()) + " " + std::to_string(p.z()) +
+           "\n";
+    }
+    s += "endloop\nendfacet\n";
+  }
+  return s + "endsolid tet\n";
+}
+
+std::string tet_binary_stl(std::uint32_t claimed_count, std::size_t written) {
+  std::string s(80, ' ');
+  s.replace(0, 6, "binary");  // a binary STL header must not start with "solid"
+  s.append(reinterpret_cast<const char*>(&claimed_count), 4);
+  for (std::size_t f = 0; f < written; ++f) {
+    float data[12] = {};
+    for (int c = 0; c < 3; ++c)
+      for (int a = 0; a < 3; ++a)
+        data[3 + 3 * c + a] = static_cast<float>(kTetVertices[kTetTriangles[f][c]][a]);
+    s.append(reinterpret_cast<const char*>(data), sizeof data);
+    s.append(2, '\0');
+  }
+  return s;
+}
+
+std::string tet_obj() {
+  std::string s = "# tetrahedron\n";
+  for (const Vec3& p : kTetVertices)
+    s += "v " + std::to_string(p.x()) + " " + std::to_string(p.y()) + " " + std::to_string(p.z()) + "\n";
+  for (const auto& t : kTetTriangles)
+    s += "f " + std::to_string(t[0] + 1) + " " + std::to_string(t[1] + 1) + " " + std::to_string(t[2] + 1) +
+         "\n";
+  return s;
+}
+
+std::string tet_ply() {
+  std::string s =
+      "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 4\nproperty list uchar int vertex_indices\nend_header\n";
+  for (const Vec3& p : kTetVertices)
+    s += std::to_string(p.x()) + " " + std::to_string(p.y()) + " " + std::to_string(p.z()) + "\n";
+  for (const auto& t : kTetTriangles)
+    s += "3 " + std::to_string(t[0]) + " " + std::to_string(t[1]) + " " + std::to_string(t[2]) + "\n";
+  return s;
+}
+
+std::string tet_off() {
+  std::string s = "OFF\n4 4 0\n";
+  for (const Vec3& p : kTetVertices)
+    s += std::to_string(p.x()) + " " + std::to_string(p.y()) + " " + std::to_string(p.z()) + "\n";
+  for (const auto& t : kTetTriangles)
+    s += "3 " + std::to_string(t[0]) + " " + std::to_string(t[1]) + " " + std::to_string(t[2]) + "\n";
+  return s;
+}
+
+// ---- a 3MF package by hand: a ZIP archive with stored (uncompressed) entries ----
+
+std::uint32_t crc32(const std::string& data) {
+  std::uint32_t crc = 0xFFFFFFFFu;
+  for (unsigned char ch : data) {
+    crc ^= ch;
+    for (int k = 0; k < 8; ++k) crc = (crc >> 1) ^ (0xEDB88320u & (0u - (crc & 1u)));
+  }
+  return ~crc;
+}
+
+void put16(std::string& s, std::uint32_t v) {
+  s += static_cast<char>(v & 0xFF);
+  s += static_cast<char>((v >> 8) & 0xFF);
+}
+void put32(std::string& s, std::uint32_t v) {
+  put16(s, v & 0xFFFF);
+  put16(s, v >> 16);
+}
+
+std::string stored_zip(const std::vector<std::pair<std::string, std::string>>& entries) {
+  std::string out, central;
+  for (const auto& [name, data] : entries) {
+    const auto offset = static_cast<std::uint32_t>(out.size());
+    const std::uint32_t crc = crc32(data);
+    const auto size = static_cast<std::uint32_t>(data.size());
+    const auto name_len = static_cast<std::uint32_t>(name.size());
+    put32(out, 0x04034b50);
+    for (std::uint32_t v : {20u, 0u, 0u, 0u, 0x21u}) put16(out, v);  // version, flags, stored, time, date
+    put32(out, crc);
+    put32(out, size);
+    put32(out, size);
+    put16(out, name_len);
+    put16(out, 0);
+    out += name + data;
+    put32(central, 0x02014b50);
+    for (std::uint32_t v : {20u, 20u, 0u, 0u, 0u, 0x21u}) put16(central, v);
+    put32(central, crc);
+    put32(central, size);
+    put32(central, size);
+    for (std::uint32_t v : {name_len, 0u, 0u, 0u, 0u}) put16(central, v);
+    put32(central, 0);
+    put32(central, offset);
+    central += name;
+  }
+  const auto central_offset = static_cast<std::uint32_t>(out.size());
+  out += central;
+  put32(out, 0x06054b50);
+  for (std::uint32_t v :
+       {0u, 0u, static_cast<std::uint32_t>(entries.size()), static_cast<std::uint32_t>(entries.size())})
+    put16(out, v);
+  put32(out, static_cast<std::uint32_t>(central.size()));
+  put32(out, central_offset);
+  put16(out, 0);
+  return out;
+}
+
+// Build item transform in 3MF order (row-vector convention): 90 degrees about z, then (10, 20, 30).
+const char* kTransform3mf = "0 1 0 -1 0 0 0 0 1 10 20 30";
+Vec3 apply_transform_3mf(const Vec3& p) {
+  return Vec3(-p.y(), p.x(), p.z()) + Vec3(10, 20, 30);
+}
+
+std::string tet_3mf() {
+  std::string model =
+      "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<model unit=\"millimeter\" xml:lang=\"en-US\" "
+      "xmlns=\"http://schemas.microsoft.com/3dmanufacturing/core/2015/02\">\n<resources>\n<object id=\"1\" "
+      "type=\"model\">\n<mesh>\n<vertices>\n";
+  for (const Vec3& p : kTetVertices)
+    model += "<vertex x=\"" + std::to_string(p.x()) + "\" y=\"" + std::to_string(p.y()) + "\" z=\"" +
+             std::to_string(p.z()) + "\"/>\n";
+  model += "</vertices>\n<triangles>\n";
+  for (const auto& t : kTetTriangles)
+    model += "<triangle v1=\"" + std::to_string(t[0]) + "\" v2=\"" + std::to_string(t[1]) + "\" v3=\"" +
+             std::to_string(t[2]) + "\"/>\n";
+  model += "</triangles>\n</mesh>\n</object>\n</resources>\n<build>\n<item objectid=\"1\" transform=\"" +
+           std::string(kTransform3mf) + "\"/>\n</build>\n</model>\n";
+  const std::string types =
+      "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<Types "
+      "xmlns=\"http://schemas.openxmlformats.org/package/2006/content-types\"><Default Extension=\"rels\" "
+      "ContentType=\"application/vnd.openxmlformats-package.relationships+xml\"/><Default "
+      "Extension=\"model\" "
+      "ContentType=\"application/vnd.ms-package.3dmanufacturing-3dmodel+xml\"/></Types>";
+  const std::string rels =
+      "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<Relationships "
+      "xmlns=\"http://schemas.openxmlformats.org/package/2006/relationships\"><Relationship "
+      "Target=\"/3D/3dmodel.model\" Id=\"rel0\" "
+      "Type=\"http://schemas.microsoft.com/3dmanufacturing/2013/01/3dmodel\"/></Relationships>";
+  return stored_zip({{"[Content_Types].xml", types}, {"_rels/.rels", rels}, {"3D/3dmodel.model", model}});
+}
+
+// Each read triangle must be an original triangle (under `map`), same orientation.
+void expect_tetrahedron(const TriangleMesh& m, Vec3 (*map)(const Vec3&)) {
+  ASSERT_EQ(m.triangles.size(), 4u);
+  ASSERT_EQ(m.vertices.size(), 4u);
+  std::set<std::array<int, 3>> found;
+  for (const auto& t : m.triangles) {
+    std::array<int, 3> ids{};
+    for (int c = 0; c < 3; ++c) {
+      ids[c] = -1;
+      for (int v = 0; v < 4; ++v)
+        if ((m.vertices[t[c]] - map(kTetVertices[v])).norm() < 1e-6) ids[c] = v;
+      ASSERT_GE(ids[c], 0) << "vertex " << m.vertices[t[c]].transpose() << " is not a tetrahedron corner";
+    }
+    // Rotate so the smallest index comes first; orientation is kept.
+    while (ids[0] != std::min({ids[0], ids[1], ids[2]})) ids = {ids[1], ids[2], ids[0]};
+    found.insert(ids);
+  }
+  std::set<std::array<int, 3>> expected;
+  for (auto t : kTetTriangles) {
+    while (t[0] != std::min({t[0], t[1], t[2]})) t = {t[1], t[2], t[0]};
+    expected.insert(t);
+  }
+  EXPECT_EQ(found, expected);
+}
+
+Vec3 identity(const Vec3& p) {
+  return p;
+}
+
+std::string input_error_message(const fs::path& p) {
+  try {
+    read_triangle_mesh(p);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no InputError for " << p;
+  return {};
+}
+
+}  // namespace
+
+// ---------- closest point on one triangle ----------
+
+TEST(ClosestPointOnTriangle, MatchesReferenceOnRegularSliverAndDegenerateTriangles) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const auto rnd = [&] { return Vec3(u(rng), u(rng), u(rng)); };
+  for (int i = 0; i < 20000; ++i) {
+    Vec3 a = rnd(), b = rnd(), c = rnd();
+    double tol = 1e-13, on_tol = 1e-13;
+    switch (i % 5) {
+      case 1:  // sliver; the reference's plane normal is only good to ~1e-7 here
+        c = a + 0.37 * (b - a) + 1e-9 * rnd();
+        tol = 1e-10;
+        on_tol = 1e-6;
+        break;
+      case 2:  // collinear up to round-off
+        c = a + 1.7 * (b - a);
+        break;
+      case 3:
+        b = a;
+        break;  // repeated vertex
+      case 4:
+        b = a;
+        c = a;
+        break;  // a point
+      default:
+        break;
+    }
+    const Vec3 p = 2.0 * rnd();
+    const Vec3 q = closest_point_on_triangle(p, a, b, c);
+    const Vec3 r = ref_triangle(p, a, b, c);
+    ASSERT_TRUE(q.allFinite()) << "case " << i % 5;
+    EXPECT_NEAR((q - p).norm(), (r - p).norm(), tol) << "case " << i % 5;
+    EXPECT_LT((ref_triangle(q, a, b, c) - q).norm(), on_tol) << "result off the triangle, case " << i % 5;
+  }
+}
+
+// ---------- BVH against brute force ----------
+
+TEST(MeshSurface, ClosedIcosphereMatchesBruteForce) {
+  expect_matches_brute_force(icosphere(3, Vec3(0.2, 0.1, -0.3), 0.8), 1500);
+}
+
+TEST(MeshSurface, OpenSheetMatchesBruteForce) {
+  expect_matches_brute_force(bumpy_sheet(20, -0.5, 0.5), 1500);
+}
+
+TEST(MeshSurface, SphereWithHoleMatchesBruteForce) {
+  const TriangleMesh m = holed_sphere();
+  ASSERT_GT(analyze_topology(m).boundary_edges, 0);
+  expect_matches_brute_force(m, 1500);
+}
+
+// The one-search query gives bit for bit what distance and closest_point give apart.
+TEST(MeshSurface, OneSearchGivesBothAnswersExactly) {
+  const MeshSurface surface(holed_sphere());
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.5, 1.5);
+  for (int i = 0; i < 500; ++i) {
+    const Vec3 p(u(rng), u(rng), u(rng));
+    const SurfaceQuery q = surface.distance_and_closest_point(p);
+    ASSERT_EQ(q.distance, surface.distance(p));
+    ASSERT_TRUE(q.closest_point);
+    ASSERT_EQ(*q.closest_point, *surface.closest_point(p));
+  }
+}
+
+// nearest_triangle names a triangle of the input mesh (not of the tree's leaf order), never one that is
+// skipped for a repeated vertex, and gives closest_point's point.
+TEST(MeshSurface, NearestTriangleIndexesTheInputTriangles) {
+  const TriangleMesh reference = holed_sphere();
+  TriangleMesh m = reference;
+  // Skipped triangles shift the input indices of those after them.
+  m.triangles.insert(m.triangles.begin(), {0, 0, 1});
+  m.triangles.insert(m.triangles.begin() + 40, {3, 9, 3});
+  const MeshSurface surface(m);
+  std::mt19937 rng(13);
+  for (const Vec3& p : query_points(m, 600, rng)) {
+    const MeshSurface::NearestTriangle nearest = surface.nearest_triangle(p);
+    ASSERT_LT(nearest.triangle, m.triangles.size());
+    const auto& t = m.triangles[nearest.triangle];
+    ASSERT_TRUE(t[0] != t[1] && t[1] != t[2] && t[0] != t[2]) << "a skipped triangle, at " << p.transpose();
+    EXPECT_EQ(nearest.point, *surface.closest_point(p));
+    const double tol = 1e-12 * (1.0 + p.norm());
+    const Vec3 on_it = ref_triangle(p, m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]);
+    EXPECT_NEAR((on_it - p).norm(), brute_force(reference, p).distance, tol) << "not the nearest triangle";
+    EXPECT_LT((on_it - nearest.point).norm(), tol) << "the point is not on that triangle";
+  }
+}
+
+TEST(MeshSurface, DistanceIsOneLipschitz) {
+  const MeshSurface s(holed_sphere());
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.5, 1.5), small(-1e-3, 1e-3);
+  for (int i = 0; i < 20000; ++i) {
+    const Vec3 p(u(rng), u(rng), u(rng));
+    const Vec3 q = i % 2 ? Vec3(u(rng), u(rng), u(rng)) : Vec3(p + Vec3(small(rng), small(rng), small(rng)));
+    ASSERT_LE(std::abs(s.distance(p) - s.distance(q)), (p - q).norm() * (1 + 1e-12) + 1e-15);
+  }
+}
+
+TEST(MeshSurface, NameBoundsAndErrors) {
+  const TriangleMesh m = bumpy_sheet(4, 0.2, 0.8);
+  const MeshSurface s(m);
+  EXPECT_EQ(s.name(), "mesh");
+  EXPECT_NEAR(s.bounds().min.x(), 0.2, 1e-15);
+  EXPECT_NEAR(s.bounds().max.y(), 0.8, 1e-15);
+  EXPECT_DOUBLE_EQ(s.distance(Vec3(0.5, 0.5, 2.0)), 2.0 - m.vertices[12].z());
+  EXPECT_THROW(MeshSurface(TriangleMesh{}), InputError);
+  TriangleMesh nan = m;
+  nan.vertices[3].x() = NAN;
+  EXPECT_THROW(MeshSurface{nan}, InputError);
+}
+
+// ---------- band from a mesh ----------
+
+TEST(MeshSurface, IcosphereBandMatchesAnalyticSphereBand) {
+  const Vec3 center = Vec3::Constant(0.5);
+  const TriangleMesh m = icosphere(4, center, 0.3);
+  ASSERT_EQ(m.triangles.size(), 5120u);
+  const MeshSurface mesh(m);
+  const Sphere sphere(center, 0.3);
+  const int n = 33;
+  const Grid grid(Vec3::Zero(), 1.0 / (n - 1), {n, n, n});
+  const NarrowBand mesh_band = build_band(mesh, grid);
+  const NarrowBand sphere_band = build_band(sphere, grid);
+  const double delta = BandOptions{}.delta_in_h * grid.h();
+  for (const Coord& c : mesh_band.voxels())
+    ASSERT_LT(std::abs(sphere.distance(grid.position(c))), delta + grid.h());
+  for (const Coord& c : sphere_band.voxels()) ASSERT_LT(mesh.distance(grid.position(c)), delta + grid.h());
+  const double ratio = static_cast<double>(mesh_band.size()) / static_cast<double>(sphere_band.size());
+  EXPECT_NEAR(ratio, 1.0, 0.05) << mesh_band.size() << " vs " << sphere_band.size();
+}
+
+TEST(MeshSurface, OpenSheetGivesABand) {
+  const MeshSurface sheet(bumpy_sheet(16, 0.25, 0.75));
+  const int n = 33;
+  const Grid grid(Vec3::Zero(), 1.0 / (n - 1), {n, n, n});
+  const NarrowBand band = build_band(sheet, grid);
+  EXPECT_GT(band.size(), 1000u);
+  const double delta = BandOptions{}.delta_in_h * grid.h();
+  for (std::size_t v = 0; v < band.size(); ++v) ASSERT_LT(band.distance()[v], delta * std::sqrt(3.0));
+}
+
+// ---------- reading files ----------
+
+TEST(MeshIO, ReadsEveryFormat) {
+  expect_tetrahedron(read_triangle_mesh(write_text("tet.stl", tet_ascii_stl())), identity);
+  expect_tetrahedron(read_triangle_mesh(write_text("tet_binary.STL", tet_binary_stl(4, 4))), identity);
+  expect_tetrahedron(read_triangle_mesh(write_text("tet.obj", tet_obj())), identity);
+  expect_tetrahedron(read_triangle_mesh(write_text("tet.ply", tet_ply())), identity);
+  expect_tetrahedron(read_triangle_mesh(write_text("tet.off", tet_off())), identity);
+  expect_tetrahedron(read_triangle_mesh(write_text("tet.3mf", tet_3mf())), apply_transform_3mf);
+  MeshInputStats stats;
+  read_triangle_mesh(temp_dir() / "tet.obj", &stats);
+  EXPECT_EQ(stats.vertices, 4);
+  EXPECT_EQ(stats.triangles, 4);
+  EXPECT_EQ(stats.dropped_degenerate, 0);
+  EXPECT_EQ(stats.boundary_edges, 0);
+}
+
+TEST(MeshIO, BadInputsGiveDistinctClearErrors) {
+  const std::vector<std::pair<fs::path, std::string>> cases{
+      {write_text("empty.stl", ""), "empty"},
+      {write_text("truncated.stl", tet_binary_stl(4, 2)), "cannot read"},
+      {write_text("nan.obj", "v 0 0 0\nv 1 0 0\nv 0 1 nan\nf 1 2 3\n"), "non-finite"},
+      {temp_dir() / "missing.obj", "does not exist"},
+      {write_text("points.xyz", "0 0 0\n"), "unsupported extension"},
+      {write_text("mesh.foo", "0 0 0\n"), ".stl, .obj, .ply, .off, .3mf"},
+      {write_text("broken.3mf", "not a zip archive"), "cannot read"},
+      {write_text("lines.obj", "v 0 0 0\nv 1 0 0\nl 1 2\n"), "no triangles"},
+  };
+  std::set<std::string> messages;
+  for (const auto& [path, expected] : cases) {
+    const std::string message = input_error_message(path);
+    EXPECT_NE(message.find(expected), std::string::npos) << message;
+    EXPECT_NE(message.find(path.filename().string()), std::string::npos) << message;
+    messages.insert(message);
+    std::cout << "  " << message << "\n";
+  }
+  EXPECT_EQ(messages.size(), cases.size());
+}
+
+TEST(MeshIO, DegenerateTrianglesDroppedAndDuplicatesWelded) {
+  // Tetrahedron whose vertex 1 appears twice (5 is a copy), plus a repeated-index and a zero-area
+  // triangle that uses an extra vertex 6 on the line through 0 and 1.
+  const std::string obj =
+      "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 1 0 0\nv 2 0 0\n"
+      "f 1 3 2\nf 1 5 4\nf 1 4 3\nf 2 3 4\nf 1 2 2\nf 1 2 6\n";
+  MeshInputStats stats;
+  const TriangleMesh m = read_triangle_mesh(write_text("degenerate.obj", obj), &stats);
+  EXPECT_EQ(stats.dropped_degenerate, 2);
+  EXPECT_EQ(stats.triangles, 4);
+  EXPECT_EQ(stats.vertices, 4);
+  EXPECT_EQ(stats.boundary_edges, 0);  // closed only because the copy was welded
+  expect_tetrahedron(m, identity);
+
+  TriangleMesh direct{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 0, 0}, {0.5, 0, 0}},
+                      {{0, 1, 2}, {0, 3, 2}, {0, 1, 4}, {2, 2, 1}}};
+  const MeshInputStats s = clean_triangle_mesh(direct);
+  EXPECT_EQ(s.dropped_degenerate, 2);
+  EXPECT_EQ(s.vertices, 3);
+  EXPECT_EQ(s.triangles, 2);  // the duplicate triangle is not degenerate; it stays
+  EXPECT_EQ(s.boundary_edges, 0);
+}
+
+// ---------- the real scan ----------
+
+TEST(MeshIO, StanfordBunnyScan) {
+  const fs::path path = fs::path(PORESHELL_DATA_DIR) / "stanford-bunny.obj";
+  MeshInputStats stats;
+  const TriangleMesh m = read_triangle_mesh(path, &stats);
+  std::cout << "  bunny: " << stats.vertices << " vertices, " << stats.triangles << " triangles, "
+            << stats.dropped_degenerate << " dropped, " << stats.boundary_edges << " boundary edges\n";
+  // The file lists 35947 vertices, but 1113 of them are used by no triangle and are removed.
+  EXPECT_EQ(stats.vertices, 34834);
+  EXPECT_EQ(stats.triangles + stats.dropped_degenerate, 69451);
+  EXPECT_EQ(stats.boundary_edges, 223);
+
+  const MeshSurface surface(m);
+  std::mt19937 rng(5);
+  const Box box = surface.bounds();
+  const Vec3 size = box.max - box.min;
+  std::uniform_real_distribution<double> u(-0.25, 1.25);
+  std::uniform_int_distribution<std::size_t> pick(0, m.vertices.size() - 1);
+  std::vector<Vec3> points;  // half near the scan, half anywhere around it
+  for (int i = 0; i < 200; ++i)
+    points.push_back(i % 2 ? Vec3(m.vertices[pick(rng)] + 0.02 * size.norm() * Vec3::Random())
+                           : Vec3(box.min + Vec3(u(rng), u(rng), u(rng)).cwiseProduct(size)));
+  for (std::size_t i = 0; i < points.size(); ++i)
+    ASSERT_NEAR(surface.distance(points[i]), brute_force(m, points[i]).distance, 1e-12);
+}

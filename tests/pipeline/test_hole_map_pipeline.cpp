@@ -1,0 +1,213 @@
+// The hole map (issue 4, item 3) and grading (item 4) through the whole pipeline: hole diameter and spacing
+// asked in mm come out of the whole pipeline within 15% on a sphere and an open cylinder; impossible requests
+// are refused with the nearest feasible one; graded holes grow along the axis and never merge.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "pattern/grading.hpp"
+#include "pipeline/pipeline.hpp"
+#include "test_support.hpp"
+
+using namespace poreshell;
+namespace fs = std::filesystem;
+
+namespace {
+
+double relative_error(double measured, double asked) {
+  return std::abs(measured - asked) / asked;
+}
+
+// An open cylinder (no caps) about the z axis, written as OBJ: a sheet with two boundary circles.
+fs::path write_open_cylinder(const fs::path& dir, double radius, double height) {
+  const int segments = 96, rings = 40;
+  const fs::path path = dir / "cylinder.obj";
+  std::ofstream out(path);
+  for (int r = 0; r <= rings; ++r)
+    for (int s = 0; s < segments; ++s) {
+      const double a = 2 * std::numbers::pi * s / segments;
+      out << "v " << radius * std::cos(a) << ' ' << radius * std::sin(a) << ' ' << height * r / rings << '\n';
+    }
+  const auto at = [&](int r, int s) { return 1 + r * segments + s % segments; };
+  for (int r = 0; r < rings; ++r)
+    for (int s = 0; s < segments; ++s) {
+      out << "f " << at(r, s) << ' ' << at(r, s + 1) << ' ' << at(r + 1, s + 1) << '\n';
+      out << "f " << at(r, s) << ' ' << at(r + 1, s + 1) << ' ' << at(r + 1, s) << '\n';
+    }
+  return path;
+}
+
+// A UV sphere of radius r as ASCII PLY with two painted vertex properties: keepout = 1 on the cap
+// z > cap_z, and hole_mm rising linearly from 4 mm at the south pole to 7.5 mm at the north pole.
+fs::path write_painted_sphere(const fs::path& dir, double r, double cap_z) {
+  const int rings = 48, segments = 96;
+  std::vector<Vec3> v{Vec3(0, 0, -r)};
+  for (int i = 1; i < rings; ++i)
+    for (int j = 0; j < segments; ++j) {
+      const double theta = std::numbers::pi * i / rings, phi = 2 * std::numbers::pi * j / segments;
+      v.emplace_back(r * std::sin(theta) * std::cos(phi), r * std::sin(theta) * std::sin(phi),
+                     -r * std::cos(theta));
+    }
+  v.emplace_back(0, 0, r);
+  const auto at = [&](int i, int j) { return 1 + (i - 1) * segments + j % segments; };
+  std::vector<std::array<int, 3>> f;
+  for (int j = 0; j < segments; ++j) {
+    f.push_back({0, at(1, j + 1), at(1, j)});
+    f.push_back({static_cast<int>(v.size()) - 1, at(rings - 1, j), at(rings - 1, j + 1)});
+  }
+  for (int i = 1; i < rings - 1; ++i)
+    for (int j = 0; j < segments; ++j) {
+      f.push_back({at(i, j), at(i, j + 1), at(i + 1, j + 1)});
+      f.push_back({at(i, j), at(i + 1, j + 1), at(i + 1, j)});
+    }
+  const fs::path path = dir / "painted.ply";
+  std::ofstream out(path);
+  out << "ply\nformat ascii 1.0\nelement vertex " << v.size()
+      << "\nproperty float x\nproperty float y\nproperty float z\nproperty uchar keepout\nproperty float "
+         "hole_mm\n"
+      << "element face " << f.size() << "\nproperty list uchar int vertex_indices\nend_header\n";
+  for (const Vec3& p : v)
+    out << p.x() << ' ' << p.y() << ' ' << p.z() << ' ' << (p.z() > cap_z ? 1 : 0) << ' '
+        << 4.0 + 3.5 * (p.z() + r) / (2 * r) << '\n';
+  for (const auto& t : f) out << "3 " << t[0] << ' ' << t[1] << ' ' << t[2] << '\n';
+  return path;
+}
+
+// Every printed pore is a hole on the band and a tunnel of the written mesh.
+void expect_holes_are_tunnels(const MeshOutput& out) {
+  EXPECT_TRUE(out.topology.closed() && out.topology.manifold() && out.topology.oriented());
+  EXPECT_GT(out.topology.min_angle_degrees, 1.0) << "no slivers";
+  EXPECT_EQ(out.pores_from_euler, out.spots_at_iso);
+}
+
+}  // namespace
+
+TEST(HoleMapPipeline, SphereOfRadius50GivesTheAskedHolesWallAndPores) {
+  PipelineConfig c;
+  c.shape = "sphere";
+  c.shape_radius = 50.0;
+  c.holes = {6.0, 10.0, 0.0};
+  c.wall = 2.0;
+  const TempDir dir;
+  c.output = dir / "sphere.stl";
+  const PipelineResult r = run_pipeline(c);
+  ASSERT_EQ(r.meshes.size(), 1u);
+  const MeshOutput& out = r.meshes.front();
+  EXPECT_LT(relative_error(out.holes.diameter_mean, 6.0), 0.15) << out.holes.diameter_mean;
+  EXPECT_LT(relative_error(out.holes.spacing_mean, 10.0), 0.15) << out.holes.spacing_mean;
+  EXPECT_LT(out.holes.diameter_cv, 0.15);
+  EXPECT_GT(out.wall.probes, 100u);
+  EXPECT_LT(relative_error(out.wall.median, 2.0), 0.10) << out.wall.median;
+  expect_holes_are_tunnels(out);
+  // About one hole per hexagonal cell of the sphere's area.
+  const double cells = 4 * std::numbers::pi * 50 * 50 / (std::sqrt(3.0) / 2 * 10 * 10);
+  EXPECT_NEAR(static_cast<double>(out.holes.holes.size()), cells, 0.25 * cells);
+}
+
+TEST(HoleMapPipeline, OpenCylinderWithRimGivesTheAskedHolesAndWallReducedToATriangleBudget) {
+  const TempDir dir;
+  PipelineConfig c;
+  c.mesh = write_open_cylinder(dir.path(), 25.0, 60.0);
+  c.holes = {5.0, 8.0, 0.0};
+  c.wall = 1.5;
+  c.rim_mm = 2.0;
+  c.max_triangles = 150000;  // from about 590,000
+  c.output = dir / "cylinder.stl";
+  const PipelineResult r = run_pipeline(c);
+  const MeshOutput& out = r.meshes.front();
+  ASSERT_TRUE(out.reduction);
+  EXPECT_LE(out.topology.triangles, 150000);
+  EXPECT_LE(out.reduction->max_distance, c.max_deviation);
+  EXPECT_LT(relative_error(out.holes.diameter_mean, 5.0), 0.15) << out.holes.diameter_mean;
+  EXPECT_LT(relative_error(out.holes.spacing_mean, 8.0), 0.15) << out.holes.spacing_mean;
+  EXPECT_LT(relative_error(out.wall.median, 1.5), 0.10) << out.wall.median;
+  expect_holes_are_tunnels(out);
+  for (const Hole& hole : out.holes.holes) {  // no hole cut by the open ends
+    EXPECT_GT(hole.centroid.z() - hole.diameter / 2, 2.0 - 0.5);
+    EXPECT_LT(hole.centroid.z() + hole.diameter / 2, 60.0 - 2.0 + 0.5);
+  }
+}
+
+// Voxels half the map's size (a smoother surface): the pattern is formed on the map's grid and carried
+// (the coarse start), with the rim's solid zone on both grids; the holes are the asked ones.
+TEST(HoleMapPipeline, FinerVoxelsKeepTheHolesAndTheRimThroughTheCoarseStart) {
+  const TempDir dir;
+  PipelineConfig c;
+  c.mesh = write_open_cylinder(dir.path(), 25.0, 60.0);
+  c.holes = {5.0, 8.0, 0.0};
+  c.voxel_size = 0.5 * plan_pattern(c.holes).voxel_size;
+  c.wall = 1.5;
+  c.rim_mm = 2.0;
+  c.output = dir / "cylinder.stl";
+  const PipelineResult r = run_pipeline(c);
+  ASSERT_TRUE(r.coarse_start);
+  EXPECT_NEAR(r.coarse_start->h, 2.0 * r.h, 0.02 * r.h);
+  EXPECT_TRUE(r.run.reached_tolerance);
+  EXPECT_LE(r.run.steps * 5, r.coarse_start->run.steps);
+  const MeshOutput& out = r.meshes.front();
+  EXPECT_LT(relative_error(out.holes.diameter_mean, 5.0), 0.15) << out.holes.diameter_mean;
+  EXPECT_LT(relative_error(out.holes.spacing_mean, 8.0), 0.15) << out.holes.spacing_mean;
+  expect_holes_are_tunnels(out);
+  for (const Hole& hole : out.holes.holes) {  // the rim held on both grids
+    EXPECT_GT(hole.centroid.z() - hole.diameter / 2, 2.0 - 0.5);
+    EXPECT_LT(hole.centroid.z() + hole.diameter / 2, 60.0 - 2.0 + 0.5);
+  }
+}
+
+TEST(HoleMapPipeline, GradedHolesGrowAlongTheAxisAndNeverMerge) {
+  const TempDir dir;
+  PipelineConfig c;
+  c.shape = "sphere";
+  c.shape_radius = 30.0;
+  c.holes = {6.0, 10.0, 0.0};
+  c.output = dir / "uniform.stl";
+  const PipelineResult uniform = run_pipeline(c);
+  c.grade = parse_grade("axis:z:4:7.5");
+  c.output = dir / "graded.stl";
+  const PipelineResult graded = run_pipeline(c);
+  const MeshOutput& out = graded.meshes.front();
+  expect_holes_are_tunnels(out);
+  // Same pattern, same holes: none merged with a neighbour, none closed.
+  EXPECT_EQ(out.holes.holes.size(), uniform.meshes.front().holes.holes.size());
+  ASSERT_TRUE(graded.grading);
+  EXPECT_EQ(graded.grading->clamped_fraction, 0.0);
+  // Mean diameter in four slabs along z rises slab by slab.
+  std::array<double, 4> sum{}, count{};
+  for (const Hole& hole : out.holes.holes) {
+    const auto slab = static_cast<std::size_t>(std::clamp((hole.centroid.z() + 30.0) / 15.0, 0.0, 3.999));
+    sum[slab] += hole.diameter;
+    count[slab] += 1;
+  }
+  for (std::size_t s = 1; s < 4; ++s) EXPECT_GT(sum[s] / count[s], sum[s - 1] / count[s - 1]) << s;
+  EXPECT_GT(sum[3] / count[3] - sum[0] / count[0], 1.5);
+}
+
+TEST(HoleMapPipeline, PaintedFieldsGradeHolesAndKeepACapSolid) {
+  const TempDir dir;
+  PipelineConfig c;
+  c.mesh = write_painted_sphere(dir.path(), 30.0, 15.0);
+  c.holes = {6.0, 10.0, 0.0};
+  c.grade = parse_grade("field:hole_mm");
+  c.keep_out_mask = "keepout";
+  c.output = dir / "painted.stl";
+  const PipelineResult r = run_pipeline(c);
+  const MeshOutput& out = r.meshes.front();
+  expect_holes_are_tunnels(out);
+  ASSERT_TRUE(r.grading);
+  EXPECT_NEAR(r.grading->min_diameter, 4.0, 0.3);
+  EXPECT_NEAR(r.grading->max_diameter, 7.5, 0.3);
+  double low = 0, low_n = 0, high = 0, high_n = 0;
+  for (const Hole& hole : out.holes.holes) {
+    EXPECT_LT(hole.centroid.z() + hole.diameter / 2, 15.0 + 1.0) << "a hole in the kept-out cap";
+    (hole.centroid.z() < -10 ? low : high) += hole.diameter;
+    (hole.centroid.z() < -10 ? low_n : high_n) += 1;
+  }
+  EXPECT_GT(high / high_n - low / low_n, 1.0) << "holes follow the painted diameters";
+}
