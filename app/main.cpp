@@ -1,47 +1,70 @@
-// poreshell: the command-line front end. Thin on purpose: flags -> PipelineConfig -> run_pipeline ->
-// summary and report. All numerics and validation live in the library.
+// poreshell: the command-line front end of the library's public API. Flags -> poreshell::Options and
+// an input -> perforate() -> files, summary and report. Everything else lives in the library.
 
 #include <fmt/core.h>
-#include <fmt/format.h>
-#include <tbb/global_control.h>
 
 #include <CLI/CLI.hpp>
-#include <array>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
+#include <map>
 #include <optional>
-#include <ostream>
 #include <string>
 #include <vector>
 
-#include "core/error.hpp"
-#include "io/atomic_file.hpp"
-#include "pipeline/pipeline.hpp"
-#include "pipeline/report.hpp"
+#include "poreshell/poreshell.hpp"
 #include "summary.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
+using poreshell::Error;
+using poreshell::ErrorCode;
 
 constexpr int kExitFailure = 1;
 constexpr int kExitUsage = 2;
 
-// Fail before the (possibly minutes long) solve rather than after it, and never leave partial output.
-void check_writable_location(const fs::path& path, const char* option) {
-  const fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
-  std::error_code ec;
-  if (!fs::is_directory(dir, ec))
-    throw poreshell::InputError(
-        fmt::format("cannot write {} '{}': the directory '{}' does not exist; create it "
-                    "or choose another path",
-                    option, path.string(), dir.string()));
-  if (fs::is_directory(path, ec))
-    throw poreshell::InputError(
-        fmt::format("cannot write {} '{}': it is a directory; give a file name", option, path.string()));
+const std::map<std::string, poreshell::Unit> kUnits{{"m", poreshell::Unit::m},
+                                                    {"cm", poreshell::Unit::cm},
+                                                    {"mm", poreshell::Unit::mm},
+                                                    {"inch", poreshell::Unit::inch}};
+const std::map<std::string, poreshell::Mode> kModes{{"shell", poreshell::Mode::shell},
+                                                    {"narrow-volume", poreshell::Mode::narrow_volume}};
+const std::map<std::string, poreshell::WallOffset> kOffsets{{"centered", poreshell::WallOffset::centered},
+                                                            {"inside", poreshell::WallOffset::inside},
+                                                            {"outside", poreshell::WallOffset::outside}};
+const std::map<std::string, poreshell::SolverKind> kSolvers{{"fast", poreshell::SolverKind::fast},
+                                                            {"reference", poreshell::SolverKind::reference}};
+const std::map<std::string, poreshell::InnerIteration> kInners{
+    {"gauss-seidel", poreshell::InnerIteration::gauss_seidel}, {"jacobi", poreshell::InnerIteration::jacobi}};
+const std::map<std::string, poreshell::PointRoute> kPointRoutes{{"direct", poreshell::PointRoute::direct},
+                                                                {"paper", poreshell::PointRoute::paper}};
+
+// The library names options by their API names in backquotes (`hole_diameter`); here they are flags.
+std::string with_flags(std::string message) {
+  static const std::map<std::string, std::string> kFlags{
+      {"max_memory_gb", "--max-memory"},    {"tolerance", "--tol"},
+      {"fast_tolerance", "--fast-tol"},     {"inner_tolerance", "--inner-tol"},
+      {"keep_out_boxes", "--keep-out-box"}, {"radius_mm", "--radius"}};
+  for (std::size_t open = message.find('`'); open != std::string::npos; open = message.find('`', open)) {
+    const std::size_t close = message.find('`', open + 1);
+    if (close == std::string::npos) break;
+    std::string name = message.substr(open + 1, close - open - 1);
+    std::string flag;
+    if (const auto it = kFlags.find(name); it != kFlags.end()) {
+      flag = it->second;
+    } else {
+      flag = "--" + name;
+      for (char& ch : flag)
+        if (ch == '_') ch = '-';
+    }
+    message.replace(open, close - open + 1, flag);
+    open += flag.size();
+  }
+  return message;
 }
 
 // Like CLI::PositiveNumber / NonNegativeNumber, but with a message that states the rule instead of
@@ -58,23 +81,44 @@ CLI::Validator number_above(double low, bool inclusive) {
       "", "");
 }
 
+// "X,Y,Z,..." with exactly `count` numbers, or nothing.
+std::optional<std::vector<double>> numbers(const std::string& text, std::size_t count) {
+  std::vector<double> values;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = text.find(',', start);
+    double v = 0.0;
+    if (!CLI::detail::lexical_cast(text.substr(start, comma - start), v)) return std::nullopt;
+    values.push_back(v);
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  if (values.size() != count) return std::nullopt;
+  return values;
+}
+
+int usage_error(const std::string& message) {
+  fmt::print(stderr, "poreshell: error: {} (see poreshell --help)\n", message);
+  return kExitUsage;
+}
+
 int run(int argc, char** argv) {
-  poreshell::PipelineConfig config;  // its defaults are the paper's section 3.2 values
-  std::string output, report, inner = poreshell::to_string(config.inner.method);
-  int threads = 0;
+  poreshell::Options options;  // its defaults are the paper's section 3.2 values
+  std::string output, report, holes_csv, shape_name = "sphere", mesh, points;
+  poreshell::Unit unit = poreshell::Unit::mm;
+  double radius = 0.0;
   bool quiet = false;
 
   CLI::App app{
       "poreshell: porous shells for 3D printing from the nonlocal Cahn-Hilliard equation on a narrow "
       "band (defaults: the sphere of section 3.2)",
       "poreshell"};
-  app.set_version_flag("--version", std::string("poreshell ") + PORESHELL_VERSION);
+  app.set_version_flag("--version", std::string("poreshell ") + poreshell::version());
   app.get_formatter()->column_width(28);
 
-  auto* shape = app.add_option("--shape", config.shape, "surface S: sphere (eq. 3.1) or torus (section 3.2)")
+  auto* shape = app.add_option("--shape", shape_name, "surface S: sphere (eq. 3.1) or torus (section 3.2)")
                     ->check(CLI::IsMember({"sphere", "torus"}))
                     ->capture_default_str();
-  std::string mesh;
   auto* mesh_option =
       app.add_option(
              "--mesh", mesh,
@@ -82,7 +126,6 @@ int run(int argc, char** argv) {
              "the unit grid as in section 3.4; coordinates in --units")
           ->type_name("FILE")
           ->excludes(shape);
-  std::string points;
   app.add_option(
          "--points", points,
          "point cloud FILE (.xyz: x y z a line, extra columns ignored; .ply: its vertices), fitted to "
@@ -90,83 +133,83 @@ int run(int argc, char** argv) {
       ->type_name("FILE")
       ->excludes(shape)
       ->excludes(mesh_option);
-  app.add_option("--point-route", config.point_route,
+  app.add_option("--point-route", options.point_route,
                  "point clouds: direct (distance to discs fitted to the points, no PDE) or paper (densify, "
                  "then the segmentation eq. 3.3; needs a closed surface); docs/point-clouds.md")
-      ->check(CLI::IsMember({"direct", "paper"}))
-      ->capture_default_str();
-  app.add_option("--resolution", config.resolution,
+      ->transform(CLI::CheckedTransformer(kPointRoutes))
+      ->default_str("direct");
+  app.add_option("--resolution", options.resolution,
                  "grid points N_x along the longest side, h = 1/(N_x - 1) (paper: 131, Fig. 5: 181)")
       ->type_name("N")
       ->check(number_above(0.0, false))
       ->capture_default_str();
-  app.add_option("--voxel-size", config.voxel_size,
+  app.add_option("--voxel-size", options.voxel_size,
                  "grid spacing h in mm; sets the resolution instead of --resolution")
       ->type_name("MM")
       ->check(number_above(0.0, false));
   app.add_option(
-         "--units", config.units,
+         "--units", unit,
          "unit of the input's coordinates (shapes: of the unit cube); lengths on the command line and "
          "all outputs are in mm")
-      ->check(CLI::IsMember({"m", "cm", "mm", "inch"}))
-      ->capture_default_str();
-  app.add_option("--mode", config.mode,
+      ->transform(CLI::CheckedTransformer(kUnits))
+      ->default_str("mm");
+  app.add_option("--mode", options.mode,
                  "shell: wall of --wall mm, pores straight through it; narrow-volume: the paper's Fig. 3b "
                  "(about 3.8 h thick)")
-      ->check(CLI::IsMember({"shell", "narrow-volume"}))
-      ->capture_default_str();
-  app.add_option("--wall", config.wall,
+      ->transform(CLI::CheckedTransformer(kModes))
+      ->default_str("shell");
+  app.add_option("--wall", options.wall,
                  "shell wall thickness in mm (default: the band's width 2 delta = 3.81 h)")
       ->type_name("MM")
       ->check(number_above(0.0, false));
-  app.add_option("--offset", config.offset,
+  app.add_option("--offset", options.offset,
                  "where the shell wall lies: centered on the surface, inside or outside it")
-      ->check(CLI::IsMember({"centered", "inside", "outside"}))
-      ->capture_default_str();
-  app.add_option("--alpha", config.alpha,
+      ->transform(CLI::CheckedTransformer(kOffsets))
+      ->default_str("centered");
+  app.add_option("--alpha", options.alpha,
                  "nonlocal strength α in eq. (2.1) (paper: 1400 sphere and torus, 2200 bunny)")
       ->type_name("A")
       ->check(number_above(0.0, true))
       ->capture_default_str();
-  app.add_option("--epsilon-m", config.epsilon_m,
+  app.add_option("--epsilon-m", options.epsilon_m,
                  "interface width m in ε_m = m h / (2√2 tanh⁻¹ 0.9) (paper: 4)")
       ->type_name("M")
       ->check(number_above(0.0, false))
       ->capture_default_str();
-  app.add_option("--dt-h", config.dt_in_h, "time step Δt in units of h, Δt = K h (paper: 100)")
+  app.add_option("--dt-h", options.dt_h, "time step Δt in units of h, Δt = K h (paper: 100)")
       ->type_name("K")
       ->check(number_above(0.0, false))
       ->capture_default_str();
-  app.add_option("--tol", config.tolerance, "stop when the consecutive change e_c < tol (paper: 1e-3)")
+  app.add_option("--tol", options.tolerance, "stop when the consecutive change e_c < tol (paper: 1e-3)")
       ->type_name("T")
       ->check(number_above(0.0, false))
       ->capture_default_str();
-  app.add_option("--max-steps", config.max_steps,
+  app.add_option("--max-steps", options.max_steps,
                  "at most S time steps (paper: T = 329 Δt sphere, 358 Δt torus)")
       ->type_name("S")
       ->check(number_above(0.0, false))
       ->capture_default_str();
-  app.add_option("--seed", config.seed, "seed of rand(x) in φ(x, 0) = φ̄ + 0.5 rand(x)")
+  app.add_option("--seed", options.seed, "seed of rand(x) in φ(x, 0) = φ̄ + 0.5 rand(x)")
       ->type_name("S")
       ->capture_default_str();
   app.add_option(
-         "--iso", config.iso_levels,
+         "--iso", options.iso,
          "isosurface level(s) φ = C of the narrow volume, comma-separated or repeated (paper: 0.3, 0, -0.3)")
       ->type_name("C[,C...]")
       ->delimiter(',')
       ->allow_extra_args(false)  // one token per --iso, so "--iso 0.3 OUT" cannot swallow a stray word
       ->capture_default_str();
-  app.add_option("--energy-every", config.energy_every,
+  app.add_option("--energy-every", options.energy_every,
                  "evaluate the discrete energy (3.2) every K steps and at the end; 0 = never (saves its "
                  "Poisson factorisation on large grids)")
       ->type_name("K")
       ->check(number_above(0.0, true))
       ->capture_default_str();
-  app.add_option("--threads", threads, "worker threads (oneTBB); 0 = all cores")
+  app.add_option("--threads", options.threads, "worker threads (oneTBB); 0 = all cores")
       ->type_name("N")
       ->check(number_above(0.0, true))
       ->capture_default_str();
-  app.add_option("--phi-bar", config.phi_bar,
+  app.add_option("--phi-bar", options.phi_bar,
                  "mean concentration φ̄ in eq. (2.1), sets the pore fraction (paper: -0.3)")
       ->type_name("F")
       ->capture_default_str();
@@ -176,16 +219,16 @@ int run(int argc, char** argv) {
                                                 app.get_option("--iso")};
   std::vector<CLI::Option*> hole_options{
       app.add_option(
-             "--hole-diameter", config.holes.diameter,
+             "--hole-diameter", options.hole_diameter,
              "hole diameter in mm; sets alpha, epsilon, phi-bar, the time step, the pore level and the "
              "voxel size (docs/printing.md)")
           ->type_name("MM")
           ->check(number_above(0.0, false)),
-      app.add_option("--spacing", config.holes.spacing,
+      app.add_option("--spacing", options.spacing,
                      "hole centre spacing in mm (default with --hole-diameter: diameter / 0.6)")
           ->type_name("MM")
           ->check(number_above(0.0, false)),
-      app.add_option("--porosity", config.holes.porosity, "open share of the surface, instead of --spacing")
+      app.add_option("--porosity", options.porosity, "open share of the surface, instead of --spacing")
           ->type_name("F")
           ->check(number_above(0.0, false))};
   for (CLI::Option* hole : hole_options)
@@ -195,48 +238,48 @@ int run(int argc, char** argv) {
                  "hole-size grading, diameters in mm: axis:x|y|z:D1:D2, line:X,Y,Z:D1:X,Y,Z:D2, "
                  "radial:X,Y,Z:R:D0 or field:NAME[:D0:D1] (a PLY vertex property)")
       ->type_name("SPEC");
-  app.add_option("--radius", config.shape_radius,
+  app.add_option("--radius", radius,
                  "size of --shape in mm: sphere radius, torus major radius (default: the unit cube)")
       ->type_name("MM")
       ->check(number_above(0.0, false))
       ->excludes(mesh_option);
-  app.add_option("--rim", config.rim_mm, "solid rim of this width (mm) along the mesh's open boundary")
+  app.add_option("--rim", options.rim, "solid rim of this width (mm) along the mesh's open boundary")
       ->type_name("MM")
       ->check(number_above(0.0, true));
   std::vector<std::string> keep_out;
   app.add_option("--keep-out", keep_out,
                  "solid sphere X,Y,Z,R in mm (input frame) where no pore may form; repeatable")
       ->type_name("X,Y,Z,R");
-  app.add_option("--max-triangles", config.max_triangles,
+  app.add_option("--max-triangles", options.max_triangles,
                  "reduce each output to at most N triangles, keeping it closed, manifold and within "
                  "--max-deviation of the meshed surface")
       ->type_name("N")
       ->check(number_above(0.0, true));
-  app.add_option("--max-deviation", config.max_deviation,
+  app.add_option("--max-deviation", options.max_deviation,
                  "how far (mm) the reduced surface may lie from the meshed one; keep it below half the wall")
       ->type_name("MM")
       ->check(number_above(0.0, false))
       ->capture_default_str();
-  app.add_option("--keep-out-mask", config.keep_out_mask,
+  app.add_option("--keep-out-mask", options.keep_out_mask,
                  "solid wherever this vertex property of the --mesh PLY file is 1 (a painted 0/1 mask)")
       ->type_name("NAME");
   std::vector<std::string> keep_out_boxes;
   app.add_option("--keep-out-box", keep_out_boxes,
                  "solid box X0,Y0,Z0,X1,Y1,Z1 in mm (input frame, two opposite corners); repeatable")
       ->type_name("X0,Y0,Z0,X1,Y1,Z1");
-  app.add_option("--max-memory", config.max_memory_gb,
+  app.add_option("--max-memory", options.max_memory_gb,
                  "refuse runs estimated to need more memory than this, in GB (default: what is available)")
       ->type_name("GB")
       ->check(number_above(0.0, false));
-  app.add_option("--solver", config.solver,
+  app.add_option("--solver", options.solver,
                  "fast: stabilised scheme, band multigrid (docs/solver.md); reference: the paper's scheme")
-      ->check(CLI::IsMember({"fast", "reference"}))
-      ->capture_default_str();
-  app.add_option("--fast-tol", config.fast.tolerance, "fast solver: bound on the error of each step's solve")
+      ->transform(CLI::CheckedTransformer(kSolvers))
+      ->default_str("fast");
+  app.add_option("--fast-tol", options.fast_tolerance, "fast solver: bound on the error of each step's solve")
       ->type_name("T")
       ->check(number_above(0.0, false))
       ->capture_default_str();
-  app.add_option("--min-stabilisation", config.fast.min_stabilisation,
+  app.add_option("--min-stabilisation", options.min_stabilisation,
                  "fast solver: floor on the stabilisation S (default: the energy-stability bound alone)")
       ->type_name("S")
       ->check(number_above(0.0, true))
@@ -248,10 +291,10 @@ int run(int argc, char** argv) {
          "or more (fine voxels for large pores), then relaxes it here; off solves here from the start")
       ->check(CLI::IsMember({"auto", "off"}))
       ->capture_default_str();
-  app.add_option("--inner", inner, "reference solver: inner relaxation per step (paper: jacobi)")
-      ->check(CLI::IsMember({"gauss-seidel", "jacobi"}))
-      ->capture_default_str();
-  app.add_option("--inner-tol", config.inner.tolerance,
+  app.add_option("--inner", options.inner, "reference solver: inner relaxation per step (paper: jacobi)")
+      ->transform(CLI::CheckedTransformer(kInners))
+      ->default_str("gauss-seidel");
+  app.add_option("--inner-tol", options.inner_tolerance,
                  "inner tolerance on the max-norm scaled residual of eqs. (2.3)-(2.4)")
       ->type_name("T")
       ->check(number_above(0.0, false))
@@ -265,102 +308,75 @@ int run(int argc, char** argv) {
   app.add_option("--report", report, "write the run's JSON report here")->type_name("OUT.json");
   app.add_flag("-q,--quiet", quiet, "no per-step progress on stderr");
 
+  app.add_option("--holes", holes_csv,
+                 "write the hole table (centre, normal, diameter, circularity, nearest) as CSV")
+      ->type_name("OUT.csv");
   app.allow_extras();
 
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
-    fmt::print(stderr, "poreshell: error: {} (see poreshell --help)\n", e.what());
-    return kExitUsage;
+    return usage_error(e.what());
   }
-  if (!app.remaining().empty()) {
-    fmt::print(stderr, "poreshell: error: unknown argument '{}' (see poreshell --help)\n",
-               app.remaining().front());
-    return kExitUsage;
-  }
-  if (output.empty()) {
-    fmt::print(stderr, "poreshell: error: no output file: give -o OUT.stl (see poreshell --help)\n");
-    return kExitUsage;
-  }
-
-  config.inner.method = poreshell::parse_inner_iteration(inner);
-  config.coarse_start = coarse_start == "auto";
-  config.output = output;
+  if (!app.remaining().empty()) return usage_error("unknown argument '" + app.remaining().front() + "'");
+  if (output.empty()) return usage_error("no output file: give -o OUT.stl");
+  options.coarse_start = coarse_start == "auto";
   for (const std::string& text : keep_out) {
-    std::array<double, 4> sphere{};
-    char extra = 0;
-    if (std::sscanf(text.c_str(), "%lf,%lf,%lf,%lf%c", &sphere[0], &sphere[1], &sphere[2], &sphere[3],
-                    &extra) != 4) {
-      fmt::print(
-          stderr,
-          "poreshell: error: --keep-out '{}' is not X,Y,Z,R (four numbers, mm) (see poreshell --help)\n",
-          text);
-      return kExitUsage;
-    }
-    config.keep_out.push_back(sphere);
+    const auto v = numbers(text, 4);
+    if (!v) return usage_error("--keep-out '" + text + "' is not X,Y,Z,R (four numbers, mm)");
+    options.keep_out.push_back({{(*v)[0], (*v)[1], (*v)[2]}, (*v)[3]});
   }
   for (const std::string& text : keep_out_boxes) {
-    std::array<double, 6> box{};
-    char extra = 0;
-    if (std::sscanf(text.c_str(), "%lf,%lf,%lf,%lf,%lf,%lf%c", &box[0], &box[1], &box[2], &box[3], &box[4],
-                    &box[5], &extra) != 6) {
-      fmt::print(stderr,
-                 "poreshell: error: --keep-out-box '{}' is not X0,Y0,Z0,X1,Y1,Z1 (six numbers, mm) (see "
-                 "poreshell --help)\n",
-                 text);
-      return kExitUsage;
-    }
-    config.keep_out_boxes.push_back(box);
+    const auto v = numbers(text, 6);
+    if (!v) return usage_error("--keep-out-box '" + text + "' is not X0,Y0,Z0,X1,Y1,Z1 (six numbers, mm)");
+    options.keep_out_boxes.push_back({{(*v)[0], (*v)[1], (*v)[2]}, {(*v)[3], (*v)[4], (*v)[5]}});
   }
-  config.mesh = mesh;
-  config.points = points;
-  if (!grade.empty()) config.grade = poreshell::parse_grade(grade);
-  check_writable_location(config.output, "the output");
-  if (!report.empty()) check_writable_location(report, "the report");
+  if (!grade.empty()) options.grade = poreshell::parse_grade(grade);
+  poreshell::validate(options);
 
-  // Held for the whole run: oneTBB honours the limit only while the object lives.
-  std::optional<tbb::global_control> thread_limit;
-  if (threads > 0)
-    thread_limit.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+  // Fail before the (possibly minutes long) run rather than after it.
+  const bool several = options.iso.size() > 1 && options.hole_diameter <= 0.0 && options.spacing <= 0.0 &&
+                       options.porosity <= 0.0;
+  poreshell::check_mesh_path(output);
+  if (!report.empty()) poreshell::check_output_path(report);
+  if (!holes_csv.empty()) poreshell::check_output_path(holes_csv);
 
-  const auto start = std::chrono::steady_clock::now();
-  if (!quiet) config.on_step = [start](const poreshell::StepProgress& p) { print_progress(p, start); };
-
-  const poreshell::PipelineResult result = poreshell::run_pipeline(config);
-
-  if (!report.empty())
-    poreshell::write_atomically(
-        report, [&](std::ostream& out) { out << poreshell::to_json(result).dump(2) << '\n'; }, false);
-
-  print_summary(config, result, report);
-  if (!result.run.reached_tolerance)
-    fmt::print(
-        stderr,
-        "poreshell: warning: stopped at --max-steps {} with e_c = {:.3e} above --tol {:g}; the pattern may "
-        "not be steady yet, raise --max-steps\n",
-        result.run.steps, result.run.final_ec, config.tolerance);
-  if (!result.run.inner_converged)
-    fmt::print(
-        stderr,
-        "poreshell: warning: some steps did not reach --inner-tol {:g}; the result may be inaccurate\n",
-        config.inner.tolerance);
-  if (result.grading && result.grading->clamped_fraction > 0.0)
-    fmt::print(
-        stderr,
-        "poreshell: warning: the grading asked for holes from {:.3g} to {:.3g} mm; at {:.3g} mm spacing "
-        "they were clamped to {:.3g}-{:.3g} mm on {:.1f}% of the surface (wider holes would merge, "
-        "narrower ones close)\n",
-        result.grading->min_diameter, result.grading->max_diameter, result.plan->spacing,
-        result.grading->clamped_min, result.grading->clamped_max, 100.0 * result.grading->clamped_fraction);
-  const poreshell::ModelParameters& m = result.model;
-  if (!poreshell::uniform_state_unstable(m.alpha, m.epsilon, m.phi_bar)) {
-    const double a = 1.0 - 3.0 * m.phi_bar * m.phi_bar;
-    fmt::print(stderr,
-               "poreshell: warning: no pattern can form: the uniform state is stable for alpha {:g}, epsilon "
-               "{:.4g}, phi-bar {:g} (needs 4 alpha eps^2 < (1 - 3 phi_bar^2)^2); use --alpha below {:.4g}\n",
-               m.alpha, m.epsilon, m.phi_bar, a > 0 ? a * a / (4 * m.epsilon * m.epsilon) : 0.0);
+  poreshell::Input input;
+  if (!mesh.empty()) {
+    std::vector<std::string> fields;
+    if (!options.keep_out_mask.empty()) fields.push_back(options.keep_out_mask);
+    if (options.grade && options.grade->kind == poreshell::Grade::Kind::field)
+      fields.push_back(options.grade->field);
+    input = poreshell::load_mesh(mesh, unit, fields);
+  } else if (!points.empty()) {
+    input = poreshell::load_points(points, unit);
+  } else {
+    input = poreshell::ShapeInput{
+        shape_name == "torus" ? poreshell::ShapeKind::torus : poreshell::ShapeKind::sphere, radius, unit};
   }
+  poreshell::RunControl control;
+  if (!quiet) control.progress = print_progress;
+  poreshell::Result result = poreshell::perforate(input, options, control);
+
+  // Every mesh was built and checked before any is written; each is written to a temporary name and
+  // renamed.
+  poreshell::Report& r = result.report;
+  const auto start_write = std::chrono::steady_clock::now();
+  for (std::size_t i = 0; i < result.outputs.size(); ++i) {
+    const fs::path path = poreshell::output_path_for_level(output, result.outputs[i].iso, several);
+    poreshell::save_mesh(path, result.outputs[i].mesh);
+    r.outputs[i].path = path.string();
+  }
+  const double write_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_write).count();
+  r.seconds.mesh += write_seconds;
+  r.seconds.total += write_seconds;
+  if (!holes_csv.empty()) poreshell::save_holes_csv(holes_csv, result.outputs.front().holes);
+  if (!report.empty()) poreshell::save_report(report, r, result.outputs);
+
+  print_summary(options, r, result.outputs, report);
+  print_warnings(options, r);
   return 0;
 }
 
@@ -369,7 +385,9 @@ int run(int argc, char** argv) {
 int main(int argc, char** argv) {
   try {
     return run(argc, argv);
-  } catch (const std::exception& e) {  // poreshell::InputError included: its message says what to fix
+  } catch (const Error& e) {  // its message says what to fix
+    fmt::print(stderr, "poreshell: error: {}\n", with_flags(e.what()));
+  } catch (const std::exception& e) {
     fmt::print(stderr, "poreshell: error: {}\n", e.what());
   } catch (...) {
     fmt::print(stderr, "poreshell: error: unknown failure\n");

@@ -13,70 +13,70 @@ std::string yes_no(bool b, const char* yes, const char* no) {
 
 }  // namespace
 
-void print_progress(const poreshell::StepProgress& p, std::chrono::steady_clock::time_point start) {
-  if (p.step != 1 && p.step % 10 != 0 && std::isnan(p.energy)) return;
-  const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::string line = fmt::format("{}step {:5d}  e_c {:.3e}", p.coarse ? "coarse " : "", p.step, p.ec);
-  if (!std::isnan(p.energy)) line += fmt::format("  energy {:.6e}", p.energy);
-  line += fmt::format("  inner {} iterations{}  {:.1f} s", p.inner.inner_iterations,
-                      p.inner.converged ? "" : " (not converged)", t);
-  fmt::print(stderr, "{}\n", line);
+void print_progress(const poreshell::Progress& p) {
+  if (p.step == 0) return;
+  const bool energy = p.message.find("energy") != std::string_view::npos;
+  if (p.step != 1 && p.step % 10 != 0 && !energy) return;
+  fmt::print(stderr, "{}  {:.1f} s\n", p.message, p.seconds);
 }
 
-void print_summary(const poreshell::PipelineConfig& c, const poreshell::PipelineResult& r,
-                   const std::string& report) {
+void print_summary(const poreshell::Options& c, const poreshell::Report& r,
+                   std::span<const poreshell::Output> outputs, const std::string& report) {
   const auto& d = r.grid_dims;
-  fmt::print("poreshell {}: {}\n", PORESHELL_VERSION, r.input.name);
+  fmt::print("poreshell {}: {}\n", poreshell::version(), r.input.name);
   if (r.input.kind == "mesh")
     fmt::print("  input    {} vertices, {} triangles ({} degenerate dropped), {} boundary edges, {:.2f} s\n",
                r.input.vertices, r.input.triangles, r.input.dropped_degenerate, r.input.boundary_edges,
-               r.seconds_input);
+               r.seconds.input);
   if (r.input.kind == "points" && r.input.point_route == "paper")
     fmt::print("  input    {} points, route paper: {} after densification, {} steps of eq. (3.3), {:.2f} s\n",
-               r.input.vertices, r.input.densified_points, r.input.segmentation_iterations, r.seconds_input);
+               r.input.vertices, r.input.densified_points, r.input.segmentation_iterations, r.seconds.input);
   else if (r.input.kind == "points")
-    fmt::print("  input    {} points, route direct (splats), {:.2f} s\n", r.input.vertices, r.seconds_input);
+    fmt::print("  input    {} points, route direct (splats), {:.2f} s\n", r.input.vertices, r.seconds.input);
   fmt::print("  grid     {} x {} x {}, h = {:.6g} ({:.6g} mm; input coordinates in {}, output in mm)\n", d[0],
-             d[1], d[2], r.h, r.h / r.input.scale * r.input.millimetres_per_unit, r.input.units);
-  fmt::print("  band     {} voxels, {} ghosts, {:.1f} MiB\n", r.band_voxels, r.ghosts,
-             static_cast<double>(r.band_bytes) / (1024.0 * 1024.0));
+             d[1], d[2], r.h, r.h_mm, r.input.units);
+  fmt::print("  band     {} voxels, {} ghosts, {:.1f} MiB\n", r.band.voxels, r.band.ghosts,
+             static_cast<double>(r.band.bytes) / (1024.0 * 1024.0));
   if (r.plan)
     fmt::print(
         "  model    alpha {:g}, epsilon {:.6g} ({:.3g} h), phi-bar {:g}, dt {:.6g} ({:g} epsilon^2): the "
         "hole map\n",
-        r.model.alpha, r.model.epsilon, r.model.epsilon / r.h, r.model.phi_bar, r.dt,
-        r.dt / (r.model.epsilon * r.model.epsilon));
+        r.model.alpha, r.model.epsilon, r.model.epsilon / r.h, r.model.phi_bar, r.model.dt,
+        r.model.dt / (r.model.epsilon * r.model.epsilon));
   else
     fmt::print("  model    alpha {:g}, epsilon {:.6g} (m = {:g}), phi-bar {:g}, dt {:.6g} ({:g} h)\n",
-               r.model.alpha, r.model.epsilon, c.epsilon_m, r.model.phi_bar, r.dt, c.dt_in_h);
-  if (const auto& cs = r.coarse_start)
+               r.model.alpha, r.model.epsilon, c.epsilon_m, r.model.phi_bar, r.model.dt, c.dt_h);
+  if (const auto& cs = r.solver.coarse_start)
     fmt::print(
         "  coarse   pattern formed on {} x {} x {} (epsilon {:.3g} h there, {} band voxels): {} steps, "
         "{} inner iterations, {} spots, {:.2f} s; carried here\n",
-        cs->dims[0], cs->dims[1], cs->dims[2], r.model.epsilon / cs->h, cs->band_voxels, cs->run.steps,
-        cs->run.inner_iterations, cs->spots, cs->seconds);
+        cs->grid[0], cs->grid[1], cs->grid[2], r.model.epsilon / cs->h, cs->band_voxels, cs->steps,
+        cs->inner_iterations, cs->spots, cs->seconds);
   fmt::print("  solver   {} ({} inner): {} steps, final e_c {:.3e} {} tol {:g} ({}), {} inner iterations{}\n",
-             r.solver_name, r.inner_iteration, r.run.steps, r.run.final_ec,
-             r.run.reached_tolerance ? "<" : ">=", c.tolerance,
-             yes_no(r.run.reached_tolerance, "reached", "NOT reached"), r.run.inner_iterations,
-             r.run.inner_converged ? "" : " (some steps did not reach --inner-tol)");
-  if (std::isnan(r.run.energy_first))
+             r.solver.name, r.solver.inner_iteration, r.solver.steps, r.solver.final_ec,
+             r.solver.reached_tolerance ? "<" : ">=", c.tolerance,
+             yes_no(r.solver.reached_tolerance, "reached", "NOT reached"), r.solver.inner_iterations,
+             r.solver.inner_converged ? "" : " (some steps did not reach --inner-tol)");
+  if (std::isnan(r.solver.energy_first))
     fmt::print("  energy   not evaluated (a diagnostic: --energy-every K)\n");
   else
-    fmt::print("  energy   first {:.6e}, final {:.6e}\n", r.run.energy_first, r.run.energy_last);
+    fmt::print("  energy   first {:.6e}, final {:.6e}\n", r.solver.energy_first, r.solver.energy_last);
   fmt::print(
       "  pattern  {} spots at phi > 0, size CV {:.3f}, spacing {:.2f} h (CV {:.3f}), area fraction {:.3f}\n",
-      r.spots.count, r.spots.size_cv, r.spots.spacing_mean, r.spots.spacing_cv, r.spots.area_fraction);
+      r.pattern.spots, r.pattern.size_cv, r.pattern.spacing_mean_voxels, r.pattern.spacing_cv,
+      r.pattern.area_fraction);
   fmt::print("  time     band {:.2f} s, solve {:.2f} s, mesh+write {:.2f} s, total {:.2f} s ({} threads)\n",
-             r.seconds_band, r.seconds_solve, r.seconds_mesh, r.seconds_total, r.threads);
+             r.seconds.band, r.seconds.solve, r.seconds.mesh, r.seconds.total, r.threads);
   constexpr double kMiB = 1024.0 * 1024.0;
   fmt::print(
       "  memory   peak {:.0f} MiB after the band, {:.0f} MiB after the solve ({:.0f} B per band voxel), "
       "{:.0f} MiB "
       "in all\n",
-      static_cast<double>(r.peak_rss_after_band) / kMiB, static_cast<double>(r.peak_rss_after_solve) / kMiB,
-      r.band_voxels ? static_cast<double>(r.peak_rss_after_solve) / static_cast<double>(r.band_voxels) : 0.0,
-      static_cast<double>(r.peak_rss_total) / kMiB);
+      static_cast<double>(r.memory.peak_rss_after_band) / kMiB,
+      static_cast<double>(r.memory.peak_rss_after_solve) / kMiB,
+      r.band.voxels ? static_cast<double>(r.memory.peak_rss_after_solve) / static_cast<double>(r.band.voxels)
+                    : 0.0,
+      static_cast<double>(r.memory.peak_rss_total) / kMiB);
   if (r.solid.mode == "shell")
     fmt::print("  solid    shell, wall {:.4g} mm {}, meshed at {:.4g} mm ({} samples, {:.2f} s)\n",
                r.solid.wall_mm, r.solid.offset, r.solid.spacing_mm, r.solid.samples, r.solid.seconds_sample);
@@ -87,20 +87,21 @@ void print_summary(const poreshell::PipelineConfig& c, const poreshell::Pipeline
         "  holes    asked {:.4g} mm at {:.4g} mm spacing: alpha {:.4g} /mm^2, epsilon {:.4g} mm, phi-bar "
         "{:g}, "
         "h {:.4g} mm, pore level {:.3f}\n",
-        r.plan->diameter, r.plan->spacing, r.plan->alpha, r.plan->epsilon, r.plan->phi_bar,
-        r.h * r.input.millimetres_per_unit / r.input.scale, r.plan->level);
+        r.plan->diameter, r.plan->spacing, r.plan->alpha_per_mm2, r.plan->epsilon_mm, r.plan->phi_bar, r.h_mm,
+        r.plan->pore_level);
   if (r.grading)
     fmt::print(
         "  grading  diameters {:.3g} to {:.3g} mm asked; {:.1f}% of the surface clamped to {:.3g}-{:.3g} "
         "mm\n",
         r.grading->min_diameter, r.grading->max_diameter, 100.0 * r.grading->clamped_fraction,
-        r.grading->clamped_min, r.grading->clamped_max);
-  for (const poreshell::MeshOutput& m : r.meshes) {
+        r.grading->printable_min, r.grading->printable_max);
+  for (std::size_t i = 0; i < r.outputs.size(); ++i) {
+    const poreshell::LevelReport& m = r.outputs[i];
     const auto& t = m.topology;
     fmt::print(
         "  measured {} holes, diameter {:.4g} mm (CV {:.3f}), spacing {:.4g} mm (CV {:.3f}), porosity {:.3f}",
-        m.holes.holes.size(), m.holes.diameter_mean, m.holes.diameter_cv, m.holes.spacing_mean,
-        m.holes.spacing_cv, m.holes.porosity);
+        m.holes.count, m.holes.diameter_mean, m.holes.diameter_cv, m.holes.spacing_mean, m.holes.spacing_cv,
+        m.holes.porosity);
     if (m.reduction)
       fmt::print("; reduced {} -> {} triangles, {:.3g} mm from the meshed surface{}",
                  m.reduction->triangles_before, m.reduction->triangles_after, m.reduction->max_distance,
@@ -109,12 +110,52 @@ void print_summary(const poreshell::PipelineConfig& c, const poreshell::Pipeline
       fmt::print("; wall {:.4g} mm ({:.4g}-{:.4g}, {} probes)", m.wall.median, m.wall.min, m.wall.max,
                  m.wall.probes);
     fmt::print("\n");
+    if (i < outputs.size() && !outputs[i].holes.empty()) {
+      double circularity = 0.0, diameter = 0.0;
+      for (const poreshell::Hole& h : outputs[i].holes) {
+        circularity += h.circularity;
+        diameter += h.diameter;
+      }
+      const auto n = static_cast<double>(outputs[i].holes.size());
+      fmt::print("  on mesh  {} holes at mid-wall, diameter {:.4g} mm, circularity {:.3f}\n",
+                 outputs[i].holes.size(), diameter / n, circularity / n);
+    }
     fmt::print(
         "  output   {} (iso {:g}): {} triangles, {}, {}, smallest angle {:.1f} deg, Euler characteristic {}, "
         "pores from Euler {} vs {} spots on band\n",
-        m.path.string(), m.iso, t.triangles, yes_no(t.closed(), "closed", "OPEN"),
-        yes_no(t.manifold(), "manifold", "NON-MANIFOLD"), t.min_angle_degrees, t.euler_characteristic,
+        m.path, m.iso, t.triangles, yes_no(t.closed, "closed", "OPEN"),
+        yes_no(t.manifold, "manifold", "NON-MANIFOLD"), t.min_angle_degrees, t.euler_characteristic,
         m.pores_from_euler, m.spots_at_iso);
   }
   if (!report.empty()) fmt::print("  report   {}\n", report);
+}
+
+void print_warnings(const poreshell::Options& c, const poreshell::Report& r) {
+  if (!r.solver.reached_tolerance)
+    fmt::print(
+        stderr,
+        "poreshell: warning: stopped at --max-steps {} with e_c = {:.3e} above --tol {:g}; the pattern may "
+        "not be steady yet, raise --max-steps\n",
+        r.solver.steps, r.solver.final_ec, c.tolerance);
+  if (!r.solver.inner_converged)
+    fmt::print(
+        stderr,
+        "poreshell: warning: some steps did not reach --inner-tol {:g}; the result may be inaccurate\n",
+        c.inner_tolerance);
+  if (r.grading && r.grading->clamped_fraction > 0.0 && r.plan)
+    fmt::print(
+        stderr,
+        "poreshell: warning: the grading asked for holes from {:.3g} to {:.3g} mm; at {:.3g} mm spacing "
+        "they were clamped to {:.3g}-{:.3g} mm on {:.1f}% of the surface (wider holes would merge, "
+        "narrower ones close)\n",
+        r.grading->min_diameter, r.grading->max_diameter, r.plan->spacing, r.grading->printable_min,
+        r.grading->printable_max, 100.0 * r.grading->clamped_fraction);
+  if (!r.model.pattern_can_form) {
+    const double a = 1.0 - 3.0 * r.model.phi_bar * r.model.phi_bar;
+    const double eps = r.model.epsilon;
+    fmt::print(stderr,
+               "poreshell: warning: no pattern can form: the uniform state is stable for alpha {:g}, epsilon "
+               "{:.4g}, phi-bar {:g} (needs 4 alpha eps^2 < (1 - 3 phi_bar^2)^2); use --alpha below {:.4g}\n",
+               r.model.alpha, eps, r.model.phi_bar, a > 0 ? a * a / (4 * eps * eps) : 0.0);
+  }
 }

@@ -1,14 +1,18 @@
 #pragma once
-// What the poreshell program prints: per-step progress on stderr and the run's summary on stdout.
+// What the poreshell program prints: per-step progress and warnings on stderr, the run's summary on
+// stdout.
 
-#include <chrono>
+#include <span>
 #include <string>
 
-#include "pipeline/pipeline.hpp"
+#include "poreshell/poreshell.hpp"
 
-// Progress: the first step, every tenth, and every step where the energy was evaluated.
-void print_progress(const poreshell::StepProgress& p, std::chrono::steady_clock::time_point start);
+// Progress: the solve's first step, every tenth, and every step where the energy was evaluated.
+void print_progress(const poreshell::Progress& p);
 
 // The summary: input, grid, band, model, solver, pattern, time, memory, solid, holes and outputs.
-void print_summary(const poreshell::PipelineConfig& c, const poreshell::PipelineResult& r,
-                   const std::string& report);
+void print_summary(const poreshell::Options& options, const poreshell::Report& r,
+                   std::span<const poreshell::Output> outputs, const std::string& report);
+
+// What the user should know before printing: an unsteady pattern, clamped grading, no pattern at all.
+void print_warnings(const poreshell::Options& options, const poreshell::Report& r);

@@ -11,27 +11,31 @@
 #include <string>
 #include <vector>
 
+#include "io/mesh_writers.hpp"
 #include "pipeline/pipeline.hpp"
+#include "poreshell/io.hpp"
 
 int main(int argc, char** argv) {
-  poreshell::PipelineConfig config;
-  std::string mesh, out_dir = "out/bench";
+  poreshell::Options config;
+  std::string shape = "sphere", mesh, out_dir = "out/bench";
   std::vector<std::string> solvers{"reference", "fast"};
   std::vector<std::uint64_t> seeds{1};
   CLI::App app{"poreshell solver comparison: same input, same process, one run per solver"};
-  app.add_option("--shape", config.shape);
+  app.add_option("--shape", shape);
   app.add_option("--mesh", mesh);
   app.add_option("--resolution", config.resolution);
   app.add_option("--alpha", config.alpha);
   app.add_option("--seeds", seeds)->delimiter(',');
-  app.add_option("--iso", config.iso_levels)->delimiter(',');
+  app.add_option("--iso", config.iso)->delimiter(',');
   app.add_option("--solvers", solvers)->delimiter(',');
   app.add_option("--out-dir", out_dir);
   CLI11_PARSE(app, argc, argv);
-  config.mesh = mesh;
+  const poreshell::Input input =
+      mesh.empty() ? poreshell::Input(shape == "torus" ? poreshell::torus() : poreshell::sphere())
+                   : poreshell::Input(poreshell::load_mesh(mesh));
   config.energy_every = 0;  // the energy's factorisation is a diagnostic, not part of the job
   std::filesystem::create_directories(out_dir);
-  const std::string name = mesh.empty() ? config.shape : std::filesystem::path(mesh).stem().string();
+  const std::string name = mesh.empty() ? shape : std::filesystem::path(mesh).stem().string();
 
   struct Totals {
     double solve = 0, total = 0, spots = 0, size_cv = 0, spacing_cv = 0;
@@ -39,10 +43,12 @@ int main(int argc, char** argv) {
   std::vector<Totals> totals(solvers.size());
   for (std::uint64_t seed : seeds)
     for (std::size_t s = 0; s < solvers.size(); ++s) {
-      config.solver = solvers[s];
+      config.solver =
+          solvers[s] == "reference" ? poreshell::SolverKind::reference : poreshell::SolverKind::fast;
       config.seed = seed;
-      config.output = std::filesystem::path(out_dir) / (name + "-" + solvers[s] + ".stl");
-      const poreshell::PipelineResult r = poreshell::run_pipeline(config);
+      const poreshell::PipelineResult r = poreshell::run_pipeline(input, config, poreshell::unmonitored());
+      poreshell::write_mesh(std::filesystem::path(out_dir) / (name + "-" + solvers[s] + ".stl"),
+                            r.meshes.front().mesh);
       fmt::print(
           "{:<10} {} seed {}, grid {}x{}x{}, {} band voxels: input {:.2f} s, band {:.2f} s, solve {:.2f} s "
           "({} "

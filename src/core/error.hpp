@@ -1,15 +1,28 @@
 #pragma once
-// Error types. InputError: the user can fix it (bad parameter, bad file); the CLI maps it to a
-// clear message. Anything else is a failure of the program.
+// The library's errors inside: all are poreshell::Error (include/poreshell/error.hpp). InputError:
+// the input cannot be used; OptionError: an option is out of range, named by its API name. Anything
+// else thrown is a failure of the program, reported as ErrorCode::internal.
 
-#include <stdexcept>
 #include <string>
+
+#include "poreshell/error.hpp"
 
 namespace poreshell {
 
-class InputError : public std::runtime_error {
+class InputError : public Error {
  public:
-  using std::runtime_error::runtime_error;
+  explicit InputError(const std::string& message) : Error(ErrorCode::invalid_input, message) {}
+};
+
+class OptionError : public Error {
+ public:
+  OptionError(const std::string& option, const std::string& message)
+      : Error(ErrorCode::invalid_option, message, option) {}
+};
+
+class Cancelled : public Error {
+ public:
+  Cancelled() : Error(ErrorCode::cancelled, "the run was cancelled; nothing was written") {}
 };
 
 }  // namespace poreshell

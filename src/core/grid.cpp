@@ -14,7 +14,8 @@ Grid::Grid(const Vec3& origin, double h, std::array<int, 3> dims) : origin_(orig
 }
 
 Grid Grid::fitted(const Box& box, int points_longest) {
-  if (points_longest < 3) throw InputError("--resolution must be at least 3 points along the longest side");
+  if (points_longest < 3)
+    throw OptionError("resolution", "`resolution` must be at least 3 points along the longest side");
   const Vec3 size = box.max - box.min;
   const double longest = size.maxCoeff();
   if (!(longest > 0.0)) throw InputError("the domain has zero size");

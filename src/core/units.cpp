@@ -1,16 +1,33 @@
 #include "core/units.hpp"
 
-#include "core/error.hpp"
-
 namespace poreshell {
 
-double millimetres_per_unit(const std::string& unit) {
-  if (unit == "mm") return 1.0;
-  if (unit == "cm") return 10.0;
-  if (unit == "m") return 1000.0;
-  if (unit == "inch") return 25.4;
-  throw InputError("unknown --units '" + unit +
-                   "': use m, cm, mm or inch (the unit of the input's coordinates)");
+double millimetres_per(Unit unit) {
+  switch (unit) {
+    case Unit::m:
+      return 1000.0;
+    case Unit::cm:
+      return 10.0;
+    case Unit::inch:
+      return 25.4;
+    case Unit::mm:
+      break;
+  }
+  return 1.0;
+}
+
+const char* to_string(Unit unit) {
+  switch (unit) {
+    case Unit::m:
+      return "m";
+    case Unit::cm:
+      return "cm";
+    case Unit::inch:
+      return "inch";
+    case Unit::mm:
+      break;
+  }
+  return "mm";
 }
 
 }  // namespace poreshell

@@ -1,65 +1,52 @@
 #include "input/placement.hpp"
 
-#include <unistd.h>
-
 #include <cmath>
-#include <fstream>
-#include <sstream>
 #include <string>
+#include <type_traits>
+#include <variant>
 
-#include "band/band.hpp"
 #include "core/error.hpp"
 #include "core/units.hpp"
 #include "geometry/mesh_surface.hpp"
 #include "input/point_cloud.hpp"
 #include "input/point_segmentation.hpp"
 #include "io/mesh_io.hpp"
-#include "io/point_io.hpp"
 
 namespace poreshell {
 namespace {
 
-// Peak bytes of a whole run per band voxel, measured over the bunny scaling series (docs/benchmarks.md:
-// 1.1-1.5 kB, the shell and its mesh included).
-constexpr double kPeakBytesPerBandVoxel = 1300.0;
-
-// MemAvailable from /proc/meminfo, else the physical memory.
-double available_memory_bytes() {
-  std::ifstream meminfo("/proc/meminfo");
-  std::string key;
-  double kib = 0.0;
-  std::string unit;
-  while (meminfo >> key >> kib >> unit)
-    if (key == "MemAvailable:") return kib * 1024.0;
-  return static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE));
-}
-
-// Grid points along the longest side: --resolution, or from --voxel-size over the longest extent.
-int resolution_for(const PipelineConfig& c, double longest_extent, int padding_cells) {
+// Grid points along the longest side: `resolution`, or from `voxel_size` over the longest extent.
+int resolution_for(const Options& c, double mm_per_unit, double longest_extent, int padding_cells) {
   if (!(c.voxel_size > 0.0)) return c.resolution;
-  const double voxel_size = c.voxel_size / millimetres_per_unit(c.units);  // in the input's units
+  const double voxel_size = c.voxel_size / mm_per_unit;  // in the input's units
+  const bool holes = c.hole_diameter > 0.0 || c.spacing > 0.0 || c.porosity > 0.0;
   const double n = std::round(longest_extent / voxel_size) + 1 + 2 * padding_cells;
   const std::string points = std::to_string(static_cast<long long>(n));
-  if (n > 2048 && !c.holes.empty())  // the hole map chose the voxel size
-    throw InputError(
-        "holes this small need " + points +
-        " grid points along the model's longest side (at most 2048): ask for holes and spacing " +
-        std::to_string(n / 2048) + " times larger or more");
+  if (n > 2048 && holes)  // the hole map chose the voxel size
+    throw OptionError("hole_diameter",
+                      "holes this small need " + points +
+                          " grid points along the model's longest side (at most 2048): ask for holes and "
+                          "spacing " +
+                          std::to_string(n / 2048) + " times larger or more");
   if (n > 2048)
-    throw InputError("--voxel-size needs " + points +
-                     " grid points along the longest side (at most 2048): choose a larger voxel size");
-  if (n < 17 && !c.holes.empty())
-    throw InputError(
-        "holes this large leave only " + points +
-        " grid points along the model's longest side (17 at least): ask for smaller holes and spacing");
-  if (n < 17) throw InputError("--voxel-size is too coarse for this model: choose a smaller voxel size");
+    throw OptionError("voxel_size", "`voxel_size` needs " + points +
+                                        " grid points along the longest side (at most 2048): choose a larger "
+                                        "voxel size");
+  if (n < 17 && holes)
+    throw OptionError("hole_diameter",
+                      "holes this large leave only " + points +
+                          " grid points along the model's longest side (17 at least): ask for smaller holes "
+                          "and spacing");
+  if (n < 17)
+    throw OptionError("voxel_size", "`voxel_size` is too coarse for this model: choose a smaller voxel size");
   return static_cast<int>(n);
 }
 
 // Scales and centres `vertices` (a mesh's or a point cloud's) into the paper's frame, with padding, and
 // sets the placement's resolution, scale, centre and domain.
-void fit_to_unit_grid(std::vector<Vec3>& vertices, const PipelineConfig& c, const std::string& what,
+void fit_to_unit_grid(std::vector<Vec3>& vertices, const Options& c, const std::string& what,
                       PlacedSurface& placed) {
+  if (vertices.empty()) throw InputError(what + " has no vertices");
   Box box{vertices.front(), vertices.front()};
   for (const Vec3& v : vertices) {
     box.min = box.min.cwiseMin(v);
@@ -67,7 +54,7 @@ void fit_to_unit_grid(std::vector<Vec3>& vertices, const PipelineConfig& c, cons
   }
   const double longest = (box.max - box.min).maxCoeff();
   if (!(longest > 0.0)) throw InputError(what + " has zero size");
-  placed.resolution = resolution_for(c, longest, kMeshPaddingCells);
+  placed.resolution = resolution_for(c, placed.input.millimetres_per_unit, longest, kMeshPaddingCells);
   const double h = 1.0 / (placed.resolution - 1);
   const double scale = (1.0 - 2 * kMeshPaddingCells * h) / longest;
   placed.input.scale = scale;
@@ -78,103 +65,103 @@ void fit_to_unit_grid(std::vector<Vec3>& vertices, const PipelineConfig& c, cons
 }
 
 // A point cloud: splats (direct) or the paper's densify-and-segment route, on the grid it will get.
-void place_points(const PipelineConfig& c, PlacedSurface& placed) {
-  PointCloud cloud = read_point_cloud(c.points);
+void place_points(const PointsInput& in, const Options& c, PlacedSurface& placed) {
+  std::vector<Vec3> points(in.points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    points[i] = Vec3(in.points[i][0], in.points[i][1], in.points[i][2]);
+    if (!points[i].allFinite())
+      throw InputError("point " + std::to_string(i) + " of '" + in.name +
+                       "' has a NaN or infinite coordinate: remove it or fix the file");
+  }
+  for (const Triangle& t : in.patches)
+    for (std::int32_t v : t)
+      if (v < 0 || static_cast<std::size_t>(v) >= points.size())
+        throw InputError("a patch of '" + in.name + "' refers to point " + std::to_string(v) + " of " +
+                         std::to_string(points.size()));
+  std::vector<std::array<std::int32_t, 3>> patches(in.patches.begin(), in.patches.end());
   placed.input.kind = "points";
-  placed.input.name = c.points.string();
-  placed.input.vertices = static_cast<std::int64_t>(cloud.points.size());
-  placed.input.triangles = static_cast<std::int64_t>(cloud.triangles.size());
-  placed.input.point_route = c.point_route;
-  placed.input.units = c.units;
-  placed.input.millimetres_per_unit = millimetres_per_unit(c.units);
-  fit_to_unit_grid(cloud.points, c, "the point cloud '" + c.points.string() + "'", placed);
-  if (c.point_route == "direct") {
-    placed.surface = std::make_unique<SplatSurface>(std::move(cloud.points));
+  placed.input.name = in.name;
+  placed.input.vertices = static_cast<std::int64_t>(points.size());
+  placed.input.triangles = static_cast<std::int64_t>(patches.size());
+  placed.input.point_route = c.point_route == PointRoute::direct ? "direct" : "paper";
+  placed.input.units = to_string(in.unit);
+  placed.input.millimetres_per_unit = millimetres_per(in.unit);
+  fit_to_unit_grid(points, c, "the point cloud '" + in.name + "'", placed);
+  if (c.point_route == PointRoute::direct) {
+    placed.surface = std::make_unique<SplatSurface>(std::move(points));
     return;
   }
   SegmentationStats stats;
-  placed.surface = segment_point_cloud(cloud.points, cloud.triangles,
-                                       Grid::fitted(placed.domain, placed.resolution), {}, &stats);
+  placed.surface =
+      segment_point_cloud(points, patches, Grid::fitted(placed.domain, placed.resolution), {}, &stats);
   placed.input.densified_points = stats.points;
   placed.input.segmentation_iterations = stats.iterations;
 }
 
-}  // namespace
-
-// The band is counted on a grid 8 times coarser (cheap: 1/64 of the voxels) and scaled by (h_coarse / h)^2,
-// since a surface's band grows like its area over h^2.
-void check_memory(const PipelineConfig& c, const PlacedSurface& placed, double h_mm) {
-  const Surface& surface = *placed.surface;
-  const Box& domain = placed.domain;
-  const int resolution = placed.resolution;
-  const double limit = c.max_memory_gb > 0.0 ? c.max_memory_gb * 1e9 : available_memory_bytes();
-  const int coarse_points = (resolution - 1) / 8 + 1;
-  if (coarse_points < 17) return;  // a small run: the estimate would be coarser than the run itself
-  const double fine_h = (domain.max - domain.min).maxCoeff() / (resolution - 1);
-  const double coarse_h = 8.0 * fine_h;
-  Box padded{domain.min - Vec3::Constant(4 * coarse_h), domain.max + Vec3::Constant(4 * coarse_h)};
-  const Grid coarse = Grid::fitted(
-      padded, static_cast<int>(std::lround((padded.max - padded.min).maxCoeff() / coarse_h)) + 1);
-  double voxels = 0.0;
-  try {
-    voxels = static_cast<double>(build_band(surface, coarse).size()) * std::pow(coarse.h() / fine_h, 2);
-  } catch (const std::exception&) {
-    return;  // no estimate on this grid: the run itself will say what is wrong
+void place_shape(const ShapeInput& in, const Options& c, PlacedSurface& placed) {
+  const std::string name = in.kind == ShapeKind::torus ? "torus" : "sphere";
+  if (!(in.radius_mm >= 0.0) || !std::isfinite(in.radius_mm))
+    throw OptionError("radius_mm", "`radius_mm` must be a positive length in millimetres");
+  if (in.radius_mm > 0.0 && in.unit != Unit::mm)
+    throw OptionError("units",
+                      "`units` names the unit of an input file: a shape with a radius is in mm already");
+  placed.surface = make_paper_shape(name);
+  placed.domain = Box{Vec3::Zero(), Vec3::Ones()};
+  placed.input.kind = "shape";
+  placed.input.name = name;
+  placed.input.euler_characteristic = in.kind == ShapeKind::torus ? 0 : 2;
+  placed.input.units = to_string(in.unit);
+  placed.input.millimetres_per_unit = millimetres_per(in.unit);
+  if (in.radius_mm > 0.0) {  // in millimetres, centred at the origin
+    placed.input.scale = kPaperShapeRadius / in.radius_mm;
+    placed.input_center = Vec3::Zero();
+  } else {  // the paper's frame: the unit cube
+    placed.input_center = Vec3::Constant(0.5);
   }
-  const double needed = voxels * kPeakBytesPerBandVoxel;
-  if (needed <= limit) return;
-  const double shrink = std::sqrt(limit / needed);
-  std::ostringstream message;
-  message.precision(3);
-  message << "this run needs about " << needed / 1e9 << " GB (about " << voxels / 1e6
-          << " million band voxels at h = " << h_mm << " mm), more than the " << limit / 1e9 << " GB "
-          << (c.max_memory_gb > 0.0 ? "allowed by --max-memory" : "available") << ": ";
-  if (c.holes.empty())
-    message << "use --resolution " << static_cast<int>(1 + (resolution - 1) * shrink)
-            << " or less, or --voxel-size " << h_mm / shrink << " mm or more";
-  else  // the voxel size follows the holes: memory grows like (size of the model / spacing)^2
-    message << "ask for holes and spacing " << 1.0 / shrink << " times larger or more";
-  throw InputError(message.str());
+  placed.resolution = resolution_for(c, placed.input.millimetres_per_unit, 1.0 / placed.input.scale, 0);
 }
 
-PlacedSurface place_surface(const PipelineConfig& c) {
-  PlacedSurface placed;
-  if (!c.points.empty()) {
-    place_points(c, placed);
-    return placed;
-  }
-  if (c.mesh.empty()) {
-    placed.surface = make_paper_shape(c.shape);
-    placed.domain = Box{Vec3::Zero(), Vec3::Ones()};
-    placed.input.kind = "shape";
-    placed.input.name = c.shape;
-    placed.input.euler_characteristic = c.shape == "torus" ? 0 : 2;
-    placed.input.units = c.units;
-    placed.input.millimetres_per_unit = millimetres_per_unit(c.units);
-    if (c.shape_radius > 0.0) {  // in millimetres, centred at the origin
-      placed.input.scale = kPaperShapeRadius / c.shape_radius;
-      placed.input_center = Vec3::Zero();
-    } else {  // the paper's frame: the unit cube
-      placed.input_center = Vec3::Constant(0.5);
-    }
-    placed.resolution = resolution_for(c, 1.0 / placed.input.scale, 0);
-    return placed;
-  }
-  MeshInputStats stats;
-  TriangleMesh mesh = read_triangle_mesh(c.mesh, &stats);
+void place_mesh(const MeshInput& in, const Options& c, PlacedSurface& placed) {
+  TriangleMesh mesh = to_triangle_mesh(in.mesh);
+  const MeshInputStats stats = clean_triangle_mesh(mesh);
   placed.input = {"mesh",
-                  c.mesh.string(),
+                  in.name,
                   stats.vertices,
                   stats.triangles,
                   stats.boundary_edges,
                   stats.dropped_degenerate,
                   analyze_topology(mesh).euler_characteristic,
                   1.0};
-  placed.input.units = c.units;
-  placed.input.millimetres_per_unit = millimetres_per_unit(c.units);
-  fit_to_unit_grid(mesh.vertices, c, "the mesh '" + c.mesh.string() + "'", placed);
+  placed.input.units = to_string(in.unit);
+  placed.input.millimetres_per_unit = millimetres_per(in.unit);
+  fit_to_unit_grid(mesh.vertices, c, "the mesh '" + in.name + "'", placed);
   placed.surface = std::make_unique<MeshSurface>(mesh);
   placed.mesh = std::move(mesh);
+}
+
+}  // namespace
+
+TriangleMesh to_triangle_mesh(const Mesh& mesh) {
+  TriangleMesh out;
+  out.vertices.reserve(mesh.vertices.size());
+  for (const Point& p : mesh.vertices) out.vertices.emplace_back(p[0], p[1], p[2]);
+  out.triangles.assign(mesh.triangles.begin(), mesh.triangles.end());
+  return out;
+}
+
+PlacedSurface place_surface(const Input& input, const Options& options) {
+  PlacedSurface placed;
+  std::visit(
+      [&](const auto& in) {
+        using T = std::decay_t<decltype(in)>;
+        if constexpr (std::is_same_v<T, ShapeInput>)
+          place_shape(in, options, placed);
+        else if constexpr (std::is_same_v<T, MeshInput>)
+          place_mesh(in, options, placed);
+        else
+          place_points(in, options, placed);
+      },
+      input);
   return placed;
 }
 

@@ -1,20 +1,35 @@
 #pragma once
 // Where the input sits on the grid: the surface scaled into the paper's frame (the grid's longest side
-// has length 1, h = 1/(N - 1), so the paper's alpha, eps_m and dt = K h mean the same for any model),
-// the grid's resolution (--resolution or --voxel-size), and the check that the run fits in memory.
+// has length 1, h = 1/(N - 1), so the paper's alpha, eps_m and dt = K h mean the same for any model)
+// and the grid's resolution (`resolution` or `voxel_size`).
 
 #include <memory>
 #include <optional>
+#include <string>
 
 #include "geometry/mesh.hpp"
 #include "geometry/surface.hpp"
-#include "pipeline/pipeline.hpp"
+#include "poreshell/geometry.hpp"
+#include "poreshell/options.hpp"
 
 namespace poreshell {
 
 // Grid cells between a mesh's bounding box and the grid's edge: the band (delta = 1.9 h) and its ghosts
 // (one more cell) must stay inside the grid.
 constexpr int kMeshPaddingCells = 4;
+
+struct InputSummary {
+  std::string kind;  // "shape", "mesh" or "points"
+  std::string name;  // shape name, file path or the caller's name
+  std::int64_t vertices = 0, triangles = 0, boundary_edges = 0, dropped_degenerate = 0;
+  std::int64_t euler_characteristic = 2;  // of the surface; the unperforated shell has twice this
+  double scale = 1.0;                     // grid units per input unit (meshes are fitted to the unit box)
+  std::string units = "mm";               // unit of the input's coordinates
+  double millimetres_per_unit = 1.0;
+  std::string point_route{};          // points: "direct" or "paper"
+  std::int64_t densified_points = 0;  // points, paper route: after Fig. 8's densification
+  int segmentation_iterations = 0;    // points, paper route: explicit steps of eq. (3.3)
+};
 
 // The surface in grid coordinates; `to_mm` maps results back to millimetres.
 struct PlacedSurface {
@@ -35,11 +50,11 @@ struct PlacedSurface {
   }
 };
 
-// Reads or makes the surface and places it on the grid it will get. Throws InputError for bad input.
-PlacedSurface place_surface(const PipelineConfig& c);
+// Makes the surface of the input and places it on the grid it will get. Throws InputError for input
+// that cannot be used, OptionError for a grid the options make impossible.
+PlacedSurface place_surface(const Input& input, const Options& options);
 
-// Refuses, before anything large is allocated, a run whose band would not fit in memory (throws
-// InputError naming the resolution and voxel size that would).
-void check_memory(const PipelineConfig& c, const PlacedSurface& placed, double h_mm);
+// A mesh input as the library's mesh: coordinates in its own unit, cleaned (mesh_io.hpp).
+TriangleMesh to_triangle_mesh(const Mesh& mesh);
 
 }  // namespace poreshell

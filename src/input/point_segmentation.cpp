@@ -485,7 +485,7 @@ std::unique_ptr<SampledLevelSet> segment_point_cloud(const std::vector<Vec3>& in
     throw InputError(
         "the paper's point-cloud route found no inside: the points do not enclose a volume at this "
         "resolution "
-        "(a hole wider than about one voxel, or an open surface); use --point-route direct, which needs no "
+        "(a hole wider than about one voxel, or an open surface); use `point_route` direct, which needs no "
         "inside, or close the holes");
 
   const double eps = o.epsilon_in_h * h, eps2 = eps * eps;
@@ -556,7 +556,7 @@ std::unique_ptr<SampledLevelSet> segment_point_cloud(const std::vector<Vec3>& in
   if (stats) *stats = st;
   if (kept.triangles.empty())
     throw InputError(
-        "the paper's point-cloud route found no surface in the segmentation; use --point-route direct");
+        "the paper's point-cloud route found no surface in the segmentation; use `point_route` direct");
   st.zero_level_triangles = static_cast<std::int64_t>(kept.triangles.size());
   for (const auto& t : kept.triangles)
     for (const std::int32_t v : t)

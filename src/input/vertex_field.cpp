@@ -20,8 +20,10 @@
 #include <optional>
 #include <stdexcept>
 #include <system_error>
+#include <variant>
 
 #include "core/error.hpp"
+#include "core/units.hpp"
 #include "geometry/mesh.hpp"
 #include "geometry/mesh_surface.hpp"
 #include "geometry/point_tree.hpp"
@@ -426,6 +428,30 @@ double VertexScalarField::on_triangle(std::size_t triangle, const Vec3& q) const
 void VertexScalarField::transform(const std::function<Vec3(const Vec3&)>& to_frame) {
   for (Vec3& v : vertices_) v = to_frame(v);
   build_search();
+}
+
+std::function<double(const Vec3&)> input_vertex_field(const Input& input, const std::string& name,
+                                                      const std::string& option) {
+  const auto* mesh = std::get_if<MeshInput>(&input);
+  const auto found = mesh ? mesh->vertex_fields.find(name) : decltype(mesh->vertex_fields.end()){};
+  if (!mesh || found == mesh->vertex_fields.end())
+    throw OptionError(option, "`" + option + "` reads the vertex field '" + name +
+                                  "' of the input mesh, which has none of that name: give the mesh as a PLY "
+                                  "file with a '" +
+                                  name + "' vertex property, or the values per vertex");
+  if (found->second.size() != mesh->mesh.vertices.size())
+    throw InputError("the vertex field '" + name + "' has " + std::to_string(found->second.size()) +
+                     " values for " + std::to_string(mesh->mesh.vertices.size()) +
+                     " vertices: give one per vertex");
+  std::vector<Vec3> vertices;
+  vertices.reserve(mesh->mesh.vertices.size());
+  for (const Point& p : mesh->mesh.vertices) vertices.emplace_back(p[0], p[1], p[2]);
+  auto field = std::make_shared<const VertexScalarField>(
+      std::move(vertices), found->second,
+      std::vector<std::array<std::int32_t, 3>>(mesh->mesh.triangles.begin(), mesh->mesh.triangles.end()),
+      name);
+  const double mm_per_unit = millimetres_per(mesh->unit);
+  return [field, mm_per_unit](const Vec3& x_mm) { return field->at(x_mm / mm_per_unit); };
 }
 
 }  // namespace poreshell

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "core/types.hpp"
+#include "poreshell/geometry.hpp"
 
 namespace poreshell {
 
@@ -66,5 +67,10 @@ class VertexScalarField {
   std::shared_ptr<const MeshSurface> surface_;  // with faces
   std::shared_ptr<const PointTree> points_;     // without faces
 };
+
+// The vertex field `name` of a mesh input (MeshInput::vertex_fields) as a function of a point in mm,
+// interpolated on the input's faces. Throws OptionError naming `option` when there is no such field.
+std::function<double(const Vec3&)> input_vertex_field(const Input& input, const std::string& name,
+                                                      const std::string& option);
 
 }  // namespace poreshell

@@ -32,32 +32,32 @@ double number(const std::string& text, const std::string& whole) {
     used = 0;
   }
   if (used != text.size() || !std::isfinite(value))
-    throw InputError("--grade '" + whole + "': '" + text + "' is not a number; " + kForms);
+    throw OptionError("grade", "`grade` '" + whole + "': '" + text + "' is not a number; " + kForms);
   return value;
 }
 
 double diameter(const std::string& text, const std::string& whole) {
   const double d = number(text, whole);
-  if (!(d > 0.0)) throw InputError("--grade '" + whole + "': hole diameters must be positive");
+  if (!(d > 0.0)) throw OptionError("grade", "`grade` '" + whole + "': hole diameters must be positive");
   return d;
 }
 
 Vec3 point(const std::string& text, const std::string& whole) {
   const std::vector<std::string> xyz = split(text, ',');
-  if (xyz.size() != 3) throw InputError("--grade '" + whole + "': a point is X,Y,Z; " + kForms);
+  if (xyz.size() != 3) throw OptionError("grade", "`grade` '" + whole + "': a point is X,Y,Z; " + kForms);
   return {number(xyz[0], whole), number(xyz[1], whole), number(xyz[2], whole)};
 }
 
 }  // namespace
 
-GradeSpec parse_grade(const std::string& text) {
+GradeSpec parse_grade_spec(const std::string& text) {
   const std::vector<std::string> p = split(text, ':');
   GradeSpec g;
   const std::string kind = p.empty() ? "" : p[0];
   if (kind == "axis" && p.size() == 4) {
     const std::string axes = "xyz";
     if (p[1].size() != 1 || axes.find(p[1][0]) == std::string::npos)
-      throw InputError("--grade '" + text + "': the axis is x, y or z");
+      throw OptionError("grade", "`grade` '" + text + "': the axis is x, y or z");
     g.kind = GradeSpec::Kind::axis;
     g.axis = static_cast<int>(axes.find(p[1][0]));
     g.from_diameter = diameter(p[2], text);
@@ -68,12 +68,13 @@ GradeSpec parse_grade(const std::string& text) {
     g.from_diameter = diameter(p[2], text);
     g.to = point(p[3], text);
     g.to_diameter = diameter(p[4], text);
-    if (!((g.to - g.from).norm() > 0.0)) throw InputError("--grade '" + text + "': the two points coincide");
+    if (!((g.to - g.from).norm() > 0.0))
+      throw OptionError("grade", "`grade` '" + text + "': the two points coincide");
   } else if (kind == "radial" && p.size() == 4) {
     g.kind = GradeSpec::Kind::radial;
     g.from = point(p[1], text);
     g.radius = number(p[2], text);
-    if (!(g.radius > 0.0)) throw InputError("--grade '" + text + "': the radius must be positive");
+    if (!(g.radius > 0.0)) throw OptionError("grade", "`grade` '" + text + "': the radius must be positive");
     g.from_diameter = diameter(p[3], text);
   } else if (kind == "field" && (p.size() == 2 || p.size() == 4) && !p[1].empty()) {
     g.kind = GradeSpec::Kind::field;
@@ -84,7 +85,7 @@ GradeSpec parse_grade(const std::string& text) {
       g.to_diameter = diameter(p[3], text);
     }
   } else {
-    throw InputError("--grade '" + text + "' is not understood: " + kForms);
+    throw OptionError("grade", "`grade` '" + text + "' is not understood: " + kForms);
   }
   return g;
 }
@@ -112,7 +113,8 @@ std::function<double(const Vec3&)> graded_diameter(const GradeSpec& spec, const 
       };
     case GradeSpec::Kind::field:
       if (!field)
-        throw InputError("--grade field:" + spec.property + " needs a PLY mesh with that vertex property");
+        throw OptionError("grade",
+                          "`grade` field:" + spec.property + " needs a PLY mesh with that vertex property");
       if (!spec.mapped) return field;
       return [=](const Vec3& x) { return blend(spec.from_diameter, spec.to_diameter, field(x)); };
   }
@@ -142,6 +144,53 @@ GradingSummary apply_grading(std::span<double> phi, std::span<const Vec3> positi
   }
   s.clamped_fraction = phi.empty() ? 0.0 : static_cast<double>(clamped) / static_cast<double>(phi.size());
   return s;
+}
+
+GradeSpec to_grade_spec(const Grade& g) {
+  GradeSpec s;
+  s.kind = static_cast<GradeSpec::Kind>(g.kind);
+  s.axis = g.axis;
+  s.from = Vec3(g.from[0], g.from[1], g.from[2]);
+  s.to = Vec3(g.to[0], g.to[1], g.to[2]);
+  s.from_diameter = g.from_diameter;
+  s.to_diameter = g.to_diameter;
+  s.radius = g.radius;
+  s.property = g.field;
+  s.mapped = g.mapped;
+  return s;
+}
+
+Grade to_grade(const GradeSpec& s) {
+  Grade g;
+  g.kind = static_cast<Grade::Kind>(s.kind);
+  g.axis = s.axis;
+  g.from = {s.from.x(), s.from.y(), s.from.z()};
+  g.to = {s.to.x(), s.to.y(), s.to.z()};
+  g.from_diameter = s.from_diameter;
+  g.to_diameter = s.to_diameter;
+  g.radius = s.radius;
+  g.field = s.property;
+  g.mapped = s.mapped;
+  return g;
+}
+
+Grade parse_grade(const std::string& text) {
+  return to_grade(parse_grade_spec(text));
+}
+
+GradingSummary grade_holes(const GradeSpec& grade, const std::function<double(const Vec3&)>& field,
+                           const PlacedSurface& placed, const NarrowBand& band, const PatternPlan& plan,
+                           std::vector<double>& phi) {
+  Box bounds{Vec3::Constant(std::numeric_limits<double>::infinity()),
+             Vec3::Constant(-std::numeric_limits<double>::infinity())};
+  std::vector<Vec3> positions(band.size());
+  for (std::size_t v = 0; v < band.size(); ++v) {
+    positions[v] = placed.to_mm(band.grid().position(band.voxels()[v]));
+    bounds.min = bounds.min.cwiseMin(positions[v]);
+    bounds.max = bounds.max.cwiseMax(positions[v]);
+  }
+  const auto diameter_at = graded_diameter(grade, bounds, plan.diameter, field);
+  return apply_grading(phi, positions, plan.spacing, plan.level, diameter_at);
 }
 
 }  // namespace poreshell

@@ -14,7 +14,11 @@
 #include <string>
 #include <vector>
 
+#include "band/band.hpp"
 #include "core/types.hpp"
+#include "input/placement.hpp"
+#include "pattern/hole_map.hpp"
+#include "poreshell/options.hpp"
 
 namespace poreshell {
 
@@ -28,8 +32,11 @@ struct GradeSpec {
   bool mapped = false;                            // field: values 0..1 mapped to from..to diameters
 };
 
-// Parses one --grade value; throws InputError naming the accepted forms.
-GradeSpec parse_grade(const std::string& text);
+// Parses one `grade` value; throws OptionError naming the accepted forms.
+GradeSpec parse_grade_spec(const std::string& text);
+// The public spec (include/poreshell/options.hpp) and back.
+GradeSpec to_grade_spec(const Grade& grade);
+Grade to_grade(const GradeSpec& spec);
 
 // The target diameter at a point (mm), for a spec over a model with bounds `bounds` and a base
 // diameter (the request's); `field` evaluates the PLY property at a point (field specs only).
@@ -47,5 +54,11 @@ struct GradingSummary {
 // neighbours, none closes up).
 GradingSummary apply_grading(std::span<double> phi, std::span<const Vec3> positions_mm, double spacing,
                              double level, const std::function<double(const Vec3&)>& diameter_at);
+
+// Grades the pattern on the band: phi shifted per voxel so that {phi > plan.level} has the graded holes.
+// `field` evaluates the named vertex field at a point in mm (field specs only).
+GradingSummary grade_holes(const GradeSpec& grade, const std::function<double(const Vec3&)>& field,
+                           const PlacedSurface& placed, const NarrowBand& band, const PatternPlan& plan,
+                           std::vector<double>& phi);
 
 }  // namespace poreshell

@@ -99,13 +99,13 @@ double min_diameter_ratio() {
 PatternPlan plan_pattern(const HoleRequest& request) {
   const double d = request.diameter, a = request.spacing, p = request.porosity;
   if (!(d >= 0.0 && a >= 0.0 && p >= 0.0) || !std::isfinite(d + a + p))
-    throw InputError("--hole-diameter, --spacing and --porosity must be positive numbers");
+    throw OptionError("hole_diameter", "`hole_diameter`, `spacing` and `porosity` must be positive numbers");
   if (d > 0.0 && a > 0.0 && p > 0.0)
     throw InputError(
-        "--hole-diameter, --spacing and --porosity over-determine the pattern: give two of them");
+        "`hole_diameter`, `spacing` and `porosity` over-determine the pattern: give two of them");
   if (p > 0.0 && d <= 0.0 && a <= 0.0)
     throw InputError(
-        "--porosity sets how much is open, not how large the holes are: add --hole-diameter MM or --spacing "
+        "`porosity` sets how much is open, not how large the holes are: add `hole_diameter` MM or `spacing` "
         "MM");
   const auto porosity_at = [](double ratio) {
     return interpolate(
@@ -114,9 +114,9 @@ PatternPlan plan_pattern(const HoleRequest& request) {
   };
   const double min_porosity = porosity_at(kMinRatio), max_porosity = porosity_at(kMaxRatio);
   if (p > 0.0 && (p < min_porosity || p > max_porosity))
-    throw InputError("--porosity " + format_mm(p) +
-                     " is outside what round, separate holes give: use a porosity between " +
-                     format_mm(min_porosity) + " and " + format_mm(max_porosity));
+    throw OptionError("porosity", "`porosity` " + format_mm(p) +
+                                      " is outside what round, separate holes give: use a porosity between " +
+                                      format_mm(min_porosity) + " and " + format_mm(max_porosity));
 
   PatternPlan plan;
   double ratio = kDefaultRatio;
@@ -131,9 +131,9 @@ PatternPlan plan_pattern(const HoleRequest& request) {
         (ratio > kMaxRatio ? "would leave bridges too thin to print or merge into slots"
                            : "are too small for their spacing to stay open") +
         " (the diameter must lie between " + format_mm(kMinRatio) + " and " + format_mm(kMaxRatio) +
-        " times the spacing): the nearest feasible requests are --hole-diameter " +
-        format_mm(nearest * plan.spacing) + " --spacing " + format_mm(plan.spacing) +
-        ", or --hole-diameter " + format_mm(plan.diameter) + " --spacing " +
+        " times the spacing): the nearest feasible requests are `hole_diameter` " +
+        format_mm(nearest * plan.spacing) + " `spacing` " + format_mm(plan.spacing) +
+        ", or `hole_diameter` " + format_mm(plan.diameter) + " `spacing` " +
         format_mm(plan.diameter / nearest));
   }
   plan.level = level_for_diameter_ratio(ratio);

@@ -63,7 +63,7 @@ HoleStats hole_statistics(const NarrowBand& band, std::span<const double> phi, d
   const auto area_of = [&](std::size_t v) {
     return h * h * std::max(0.0, 1.0 - std::abs(band.distance()[v]) / h);
   };
-  std::vector<Hole> all;
+  std::vector<BandHole> all;
   std::vector<std::int64_t> voxels;
   double open_area = 0.0, total_area = 0.0;
   for (std::size_t v = 0; v < label.size(); ++v) {
@@ -84,7 +84,7 @@ HoleStats hole_statistics(const NarrowBand& band, std::span<const double> phi, d
   s.porosity = total_area > 0.0 ? open_area / total_area : 0.0;
   std::vector<Vec3> centroids;
   for (std::size_t l = 0; l < all.size(); ++l) {
-    Hole& hole = all[l];
+    BandHole& hole = all[l];
     hole.centroid /= static_cast<double>(voxels[l]);
     hole.diameter = 2.0 * std::sqrt(hole.area / std::numbers::pi);
     centroids.push_back(hole.centroid);

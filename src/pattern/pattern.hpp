@@ -29,14 +29,14 @@ SpotStats spot_statistics(const NarrowBand& band, std::span<const double> phi, d
 
 // The pores as a printer sees them: each spot's area on the surface (its band voxels times h^3 over
 // the band's thickness 2 delta) and the diameter of the disc of that area, in the grid's length unit.
-struct Hole {
+struct BandHole {
   Vec3 centroid = Vec3::Zero();
   double area = 0.0;
   double diameter = 0.0;
 };
 
 struct HoleStats {
-  std::vector<Hole> holes;  // the holes counted (see `counted` below), in order of first voxel
+  std::vector<BandHole> holes;  // the holes counted (see `counted` below), in order of first voxel
   double diameter_mean = 0.0, diameter_cv = 0.0;
   double spacing_mean = 0.0, spacing_cv = 0.0;  // centroid to nearest centroid (among all holes)
   double porosity = 0.0;                        // open share of the surface's area (all holes)

@@ -71,14 +71,14 @@ std::vector<Segment> boundary_segments(const TriangleMesh& mesh) {
 }
 
 // Signed distance to an axis-aligned box: negative inside (minus the distance to the nearest face).
-double box_distance(const Vec3& x, const KeepOutBox& b) {
+double box_distance(const Vec3& x, const SolidBox& b) {
   const Vec3 outside = (b.min - x).cwiseMax(x - b.max);
   return outside.cwiseMax(0.0).norm() + std::min(outside.maxCoeff(), 0.0);
 }
 
 std::vector<double> solid_zone_weight(const NarrowBand& band, std::span<const Segment> boundary, double rim,
-                                      std::span<const KeepOutSphere> keep_out, double ramp,
-                                      std::span<const KeepOutBox> boxes) {
+                                      std::span<const SolidSphere> keep_out, double ramp,
+                                      std::span<const SolidBox> boxes) {
   std::vector<double> weight(band.size(), 0.0);
   const double reach = rim + ramp;
   const bool rims = rim > 0.0 && !boundary.empty();
@@ -90,8 +90,8 @@ std::vector<double> solid_zone_weight(const NarrowBand& band, std::span<const Se
     const Vec3 x = band.grid().position(band.voxels()[v]);
     double w = 0.0;
     if (rims) w = ramp_weight(rim - buckets.distance(x, 2.0 * reach));
-    for (const KeepOutSphere& s : keep_out) w = std::max(w, ramp_weight(s.radius - (x - s.center).norm()));
-    for (const KeepOutBox& b : boxes) w = std::max(w, ramp_weight(-box_distance(x, b)));
+    for (const SolidSphere& s : keep_out) w = std::max(w, ramp_weight(s.radius - (x - s.center).norm()));
+    for (const SolidBox& b : boxes) w = std::max(w, ramp_weight(-box_distance(x, b)));
     weight[v] = w;
   });
   return weight;
@@ -101,6 +101,31 @@ std::vector<double> mean_concentration_field(std::span<const double> weight, dou
   std::vector<double> field(weight.size());
   for (std::size_t v = 0; v < weight.size(); ++v) field[v] = phi_bar + (-1.0 - phi_bar) * weight[v];
   return field;
+}
+
+std::vector<double> solid_zones(const Options& c, const PlacedSurface& placed, const NarrowBand& band,
+                                double epsilon, const std::function<double(const Vec3&)>& mask) {
+  if (c.rim <= 0.0 && c.keep_out.empty() && c.keep_out_boxes.empty() && !mask) return {};
+  const double grid_per_mm = 1.0 / placed.mm_per_grid();
+  const auto from_mm = [&](const Point& p) { return placed.from_mm(Vec3(p[0], p[1], p[2])); };
+  std::vector<SolidSphere> spheres;
+  for (const KeepOutSphere& k : c.keep_out) spheres.push_back({from_mm(k.centre), k.radius * grid_per_mm});
+  std::vector<SolidBox> boxes;
+  for (const KeepOutBox& k : c.keep_out_boxes) {
+    const Vec3 a = from_mm(k.min), b = from_mm(k.max);
+    boxes.push_back({a.cwiseMin(b), a.cwiseMax(b)});
+  }
+  const std::vector<Segment> boundary =
+      placed.mesh ? boundary_segments(*placed.mesh) : std::vector<Segment>{};
+  // The ramp lets the pattern meet the zone over about one interface width.
+  std::vector<double> weight =
+      solid_zone_weight(band, boundary, c.rim * grid_per_mm, spheres, 2.0 * epsilon, boxes);
+  if (mask)
+    for (std::size_t v = 0; v < band.size(); ++v) {
+      const double m = mask(placed.to_mm(band.grid().position(band.voxels()[v])));
+      weight[v] = std::max(weight[v], std::clamp(2.0 * (m - 0.25), 0.0, 1.0));
+    }
+  return weight;
 }
 
 }  // namespace poreshell

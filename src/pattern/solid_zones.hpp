@@ -4,22 +4,25 @@
 // the solid phase -1, so the pattern arranges itself around them instead of being cut afterwards.
 
 #include <array>
+#include <functional>
 #include <span>
 #include <vector>
 
 #include "band/band.hpp"
 #include "geometry/mesh.hpp"
+#include "input/placement.hpp"
+#include "poreshell/options.hpp"
 
 namespace poreshell {
 
 using Segment = std::array<Vec3, 2>;
 
-struct KeepOutSphere {
+struct SolidSphere {
   Vec3 center = Vec3::Zero();
   double radius = 0.0;
 };
 
-struct KeepOutBox {
+struct SolidBox {
   Vec3 min = Vec3::Zero(), max = Vec3::Zero();  // axis-aligned corners
 };
 
@@ -29,10 +32,16 @@ std::vector<Segment> boundary_segments(const TriangleMesh& mesh);
 // Per band voxel, 1 within `rim` of a boundary segment or inside a keep-out sphere or box, 0 beyond a
 // further `ramp`, linear between (all lengths in the band's grid units).
 std::vector<double> solid_zone_weight(const NarrowBand& band, std::span<const Segment> boundary, double rim,
-                                      std::span<const KeepOutSphere> keep_out, double ramp,
-                                      std::span<const KeepOutBox> boxes = {});
+                                      std::span<const SolidSphere> keep_out, double ramp,
+                                      std::span<const SolidBox> boxes = {});
 
 // phi_bar(x) = phi_bar + (-1 - phi_bar) w(x): the nonlocal term's target, solid where w = 1.
 std::vector<double> mean_concentration_field(std::span<const double> weight, double phi_bar);
+
+// Per band voxel, how solid the wall must stay (0 free, 1 solid) from the options (mm, input frame): rims
+// along the mesh's open boundary, keep-out spheres and boxes, and a keep-out mask (a 0/1 vertex field,
+// evaluated by `mask` at points in mm, blended over 0.25-0.75). Empty where nothing is kept out.
+std::vector<double> solid_zones(const Options& options, const PlacedSurface& placed, const NarrowBand& band,
+                                double epsilon, const std::function<double(const Vec3&)>& mask);
 
 }  // namespace poreshell

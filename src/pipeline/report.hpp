@@ -1,12 +1,11 @@
 #pragma once
-// The machine-readable report of a run (the CLI's --report).
-
-#include <nlohmann/json.hpp>
+// The run's report as the public struct (include/poreshell/result.hpp), from the pipeline's result.
 
 #include "pipeline/pipeline.hpp"
+#include "poreshell/result.hpp"
 
 namespace poreshell {
 
-nlohmann::json to_json(const PipelineResult& result);
+Report make_report(const PipelineResult& result, const Options& options);
 
 }  // namespace poreshell

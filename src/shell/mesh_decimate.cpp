@@ -35,6 +35,7 @@
 
 #include "core/error.hpp"
 #include "geometry/mesh_surface.hpp"
+#include "shell/printability.hpp"
 
 namespace poreshell {
 namespace {
@@ -431,18 +432,6 @@ void validate(const DecimateOptions& options) {
         std::to_string(options.max_distance));
 }
 
-// Names the first property of a printable mesh that this one lacks, or returns an empty string.
-std::string printability_problem(const MeshTopology& t) {
-  if (!t.closed()) return std::to_string(t.boundary_edges) + " boundary edges";
-  if (!t.manifold())
-    return std::to_string(t.nonmanifold_edges) + " non-manifold edges and " +
-           std::to_string(t.nonmanifold_vertices) + " non-manifold vertices";
-  if (!t.oriented()) return std::to_string(t.misoriented_edges) + " misoriented edges";
-  if (t.degenerate_triangles > 0) return std::to_string(t.degenerate_triangles) + " degenerate triangles";
-  if (!(t.signed_volume > 0.0)) return "no positive volume (inward oriented)";
-  return {};
-}
-
 double surface_area(const TriangleMesh& mesh) {
   double area = 0.0;
   for (const auto& t : mesh.triangles) {
@@ -531,7 +520,7 @@ double two_sided_distance(const MeshSurface& original_surface, const TriangleMes
 }
 
 void check_result(const MeshTopology& before, const MeshTopology& after, double volume_tolerance) {
-  if (const std::string problem = printability_problem(after); !problem.empty())
+  if (const std::string problem = printability_failures(after); !problem.empty())
     throw std::runtime_error("mesh decimation produced " + problem);
   if (after.euler_characteristic != before.euler_characteristic || after.components != before.components)
     throw std::runtime_error("mesh decimation changed the topology: Euler characteristic " +
@@ -554,7 +543,7 @@ DecimateResult decimate_mesh(TriangleMesh& mesh, const DecimateOptions& options)
   if (result.reached_target) return result;
 
   const MeshTopology before = analyze_topology(mesh);
-  if (const std::string problem = printability_problem(before); !problem.empty())
+  if (const std::string problem = printability_failures(before); !problem.empty())
     throw std::runtime_error(
         "mesh decimation needs a closed, manifold, outward oriented mesh; this one has " + problem);
   // The surfaces are at most max_distance apart, so the volume between them is at most about

@@ -27,14 +27,6 @@ struct Sample {
 
 }  // namespace
 
-WallOffset parse_wall_offset(const std::string& name) {
-  if (name == "centered") return WallOffset::centered;
-  if (name == "inside") return WallOffset::inside;
-  if (name == "outside") return WallOffset::outside;
-  throw InputError("unknown --offset '" + name +
-                   "': use centered (wall around the surface), inside or outside (wall on that side)");
-}
-
 std::string to_string(WallOffset offset) {
   switch (offset) {
     case WallOffset::inside:

@@ -21,11 +21,10 @@
 #include "core/grid.hpp"
 #include "geometry/mesh.hpp"
 #include "geometry/surface.hpp"
+#include "poreshell/options.hpp"
 
 namespace poreshell {
 
-enum class WallOffset { centered, inside, outside };
-WallOffset parse_wall_offset(const std::string& name);  // throws InputError
 std::string to_string(WallOffset offset);
 
 // Side of the surface a point lies on: > 0 outside (where the normals point), < 0 inside.

@@ -11,12 +11,6 @@
 
 namespace poreshell {
 
-InnerIteration parse_inner_iteration(const std::string& name) {
-  if (name == "jacobi") return InnerIteration::jacobi;
-  if (name == "gauss-seidel") return InnerIteration::gauss_seidel;
-  throw InputError("unknown inner iteration '" + name + "': use gauss-seidel or jacobi");
-}
-
 std::string to_string(InnerIteration it) {
   switch (it) {
     case InnerIteration::jacobi:

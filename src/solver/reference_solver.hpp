@@ -17,14 +17,12 @@
 
 #include "band/band.hpp"
 #include "band/operators.hpp"
+#include "poreshell/options.hpp"
 #include "solver/model.hpp"
 #include "solver/time_stepper.hpp"
 
 namespace poreshell {
 
-enum class InnerIteration { gauss_seidel, jacobi };
-
-InnerIteration parse_inner_iteration(const std::string& name);
 std::string to_string(InnerIteration it);
 
 struct InnerOptions {

@@ -32,7 +32,7 @@ TEST(Grid, FittedGridMatchesThePapersH) {
   EXPECT_EQ(g.dims(), (std::array<int, 3>{131, 131, 131}));
   const Grid box = Grid::fitted({Vec3::Zero(), Vec3(2.0, 1.0, 0.5)}, 21);
   EXPECT_EQ(box.dims(), (std::array<int, 3>{21, 11, 6}));
-  EXPECT_THROW(Grid::fitted({Vec3::Zero(), Vec3::Ones()}, 2), InputError);
+  EXPECT_THROW(Grid::fitted({Vec3::Zero(), Vec3::Ones()}, 2), OptionError);
 }
 
 // Distance is 1-Lipschitz and the closest point lies on the surface at that distance.

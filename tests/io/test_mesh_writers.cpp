@@ -129,12 +129,11 @@ TEST(MeshWriters, FailedWriteLeavesNoFile) {
 }
 
 TEST(Units, MillimetresPerUnit) {
-  EXPECT_EQ(millimetres_per_unit("mm"), 1.0);
-  EXPECT_EQ(millimetres_per_unit("cm"), 10.0);
-  EXPECT_EQ(millimetres_per_unit("m"), 1000.0);
-  EXPECT_EQ(millimetres_per_unit("inch"), 25.4);
-  EXPECT_THROW(millimetres_per_unit("ft"), InputError);
-  EXPECT_THROW(millimetres_per_unit("MM"), InputError);
+  EXPECT_EQ(millimetres_per(Unit::mm), 1.0);
+  EXPECT_EQ(millimetres_per(Unit::cm), 10.0);
+  EXPECT_EQ(millimetres_per(Unit::m), 1000.0);
+  EXPECT_EQ(millimetres_per(Unit::inch), 25.4);
+  EXPECT_STREQ(to_string(Unit::inch), "inch");
 }
 
 }  // namespace

@@ -106,14 +106,14 @@ TEST(SolidZones, KeepOutSpheresHoldNoPore) {
   const Sphere surface(kCenter, kRadius);
   const NarrowBand band = build_band(surface, unit_grid());
   const double h = band.grid().h();
-  const std::vector<KeepOutSphere> keep_out{{kCenter + Vec3(0, 0, kRadius), 0.12},
-                                            {kCenter + Vec3(kRadius, 0, 0), 0.08}};
+  const std::vector<SolidSphere> keep_out{{kCenter + Vec3(0, 0, kRadius), 0.12},
+                                          {kCenter + Vec3(kRadius, 0, 0), 0.08}};
   const std::vector<double> weight = solid_zone_weight(band, {}, 0.0, keep_out, 2 * h);
   const std::vector<double> phi = pattern_with_zones(band, weight);
   std::int64_t pore_voxels_inside = 0;
   for (std::size_t v = 0; v < phi.size(); ++v) {
     const Vec3 x = band.grid().position(band.voxels()[v]);
-    for (const KeepOutSphere& k : keep_out)
+    for (const SolidSphere& k : keep_out)
       if ((x - k.center).norm() <= k.radius && phi[v] > 0.0) ++pore_voxels_inside;
   }
   const SpotStats spots = spot_statistics(band, phi, 0.0);
@@ -127,7 +127,7 @@ TEST(SolidZones, KeepOutBoxHoldsNoPore) {
   const NarrowBand band = build_band(surface, unit_grid());
   const double h = band.grid().h();
   // A slab across the sphere's equator, as a strap would need.
-  const std::vector<KeepOutBox> boxes{{kCenter - Vec3(0.4, 0.4, 0.05), kCenter + Vec3(0.4, 0.4, 0.05)}};
+  const std::vector<SolidBox> boxes{{kCenter - Vec3(0.4, 0.4, 0.05), kCenter + Vec3(0.4, 0.4, 0.05)}};
   const std::vector<double> weight = solid_zone_weight(band, {}, 0.0, {}, 2 * h, boxes);
   const std::vector<double> phi = pattern_with_zones(band, weight);
   std::int64_t pore_voxels_inside = 0, voxels_inside = 0;

@@ -14,6 +14,7 @@
 
 #include "pattern/grading.hpp"
 #include "pipeline/pipeline.hpp"
+#include "poreshell/io.hpp"
 #include "test_support.hpp"
 
 using namespace poreshell;
@@ -90,14 +91,11 @@ void expect_holes_are_tunnels(const MeshOutput& out) {
 }  // namespace
 
 TEST(HoleMapPipeline, SphereOfRadius50GivesTheAskedHolesWallAndPores) {
-  PipelineConfig c;
-  c.shape = "sphere";
-  c.shape_radius = 50.0;
-  c.holes = {6.0, 10.0, 0.0};
+  Options c;
+  c.hole_diameter = 6.0;
+  c.spacing = 10.0;
   c.wall = 2.0;
-  const TempDir dir;
-  c.output = dir / "sphere.stl";
-  const PipelineResult r = run_pipeline(c);
+  const PipelineResult r = run_pipeline(sphere(50.0), c, unmonitored());
   ASSERT_EQ(r.meshes.size(), 1u);
   const MeshOutput& out = r.meshes.front();
   EXPECT_LT(relative_error(out.holes.diameter_mean, 6.0), 0.15) << out.holes.diameter_mean;
@@ -113,14 +111,14 @@ TEST(HoleMapPipeline, SphereOfRadius50GivesTheAskedHolesWallAndPores) {
 
 TEST(HoleMapPipeline, OpenCylinderWithRimGivesTheAskedHolesAndWallReducedToATriangleBudget) {
   const TempDir dir;
-  PipelineConfig c;
-  c.mesh = write_open_cylinder(dir.path(), 25.0, 60.0);
-  c.holes = {5.0, 8.0, 0.0};
+  const Input cylinder = load_mesh(write_open_cylinder(dir.path(), 25.0, 60.0));
+  Options c;
+  c.hole_diameter = 5.0;
+  c.spacing = 8.0;
   c.wall = 1.5;
-  c.rim_mm = 2.0;
+  c.rim = 2.0;
   c.max_triangles = 150000;  // from about 590,000
-  c.output = dir / "cylinder.stl";
-  const PipelineResult r = run_pipeline(c);
+  const PipelineResult r = run_pipeline(cylinder, c, unmonitored());
   const MeshOutput& out = r.meshes.front();
   ASSERT_TRUE(out.reduction);
   EXPECT_LE(out.topology.triangles, 150000);
@@ -129,7 +127,7 @@ TEST(HoleMapPipeline, OpenCylinderWithRimGivesTheAskedHolesAndWallReducedToATria
   EXPECT_LT(relative_error(out.holes.spacing_mean, 8.0), 0.15) << out.holes.spacing_mean;
   EXPECT_LT(relative_error(out.wall.median, 1.5), 0.10) << out.wall.median;
   expect_holes_are_tunnels(out);
-  for (const Hole& hole : out.holes.holes) {  // no hole cut by the open ends
+  for (const BandHole& hole : out.holes.holes) {  // no hole cut by the open ends
     EXPECT_GT(hole.centroid.z() - hole.diameter / 2, 2.0 - 0.5);
     EXPECT_LT(hole.centroid.z() + hole.diameter / 2, 60.0 - 2.0 + 0.5);
   }
@@ -139,14 +137,14 @@ TEST(HoleMapPipeline, OpenCylinderWithRimGivesTheAskedHolesAndWallReducedToATria
 // (the coarse start), with the rim's solid zone on both grids; the holes are the asked ones.
 TEST(HoleMapPipeline, FinerVoxelsKeepTheHolesAndTheRimThroughTheCoarseStart) {
   const TempDir dir;
-  PipelineConfig c;
-  c.mesh = write_open_cylinder(dir.path(), 25.0, 60.0);
-  c.holes = {5.0, 8.0, 0.0};
-  c.voxel_size = 0.5 * plan_pattern(c.holes).voxel_size;
+  const Input cylinder = load_mesh(write_open_cylinder(dir.path(), 25.0, 60.0));
+  Options c;
+  c.hole_diameter = 5.0;
+  c.spacing = 8.0;
+  c.voxel_size = 0.5 * plan_pattern({5.0, 8.0, 0.0}).voxel_size;
   c.wall = 1.5;
-  c.rim_mm = 2.0;
-  c.output = dir / "cylinder.stl";
-  const PipelineResult r = run_pipeline(c);
+  c.rim = 2.0;
+  const PipelineResult r = run_pipeline(cylinder, c, unmonitored());
   ASSERT_TRUE(r.coarse_start);
   EXPECT_NEAR(r.coarse_start->h, 2.0 * r.h, 0.02 * r.h);
   EXPECT_TRUE(r.run.reached_tolerance);
@@ -155,23 +153,19 @@ TEST(HoleMapPipeline, FinerVoxelsKeepTheHolesAndTheRimThroughTheCoarseStart) {
   EXPECT_LT(relative_error(out.holes.diameter_mean, 5.0), 0.15) << out.holes.diameter_mean;
   EXPECT_LT(relative_error(out.holes.spacing_mean, 8.0), 0.15) << out.holes.spacing_mean;
   expect_holes_are_tunnels(out);
-  for (const Hole& hole : out.holes.holes) {  // the rim held on both grids
+  for (const BandHole& hole : out.holes.holes) {  // the rim held on both grids
     EXPECT_GT(hole.centroid.z() - hole.diameter / 2, 2.0 - 0.5);
     EXPECT_LT(hole.centroid.z() + hole.diameter / 2, 60.0 - 2.0 + 0.5);
   }
 }
 
 TEST(HoleMapPipeline, GradedHolesGrowAlongTheAxisAndNeverMerge) {
-  const TempDir dir;
-  PipelineConfig c;
-  c.shape = "sphere";
-  c.shape_radius = 30.0;
-  c.holes = {6.0, 10.0, 0.0};
-  c.output = dir / "uniform.stl";
-  const PipelineResult uniform = run_pipeline(c);
+  Options c;
+  c.hole_diameter = 6.0;
+  c.spacing = 10.0;
+  const PipelineResult uniform = run_pipeline(sphere(30.0), c, unmonitored());
   c.grade = parse_grade("axis:z:4:7.5");
-  c.output = dir / "graded.stl";
-  const PipelineResult graded = run_pipeline(c);
+  const PipelineResult graded = run_pipeline(sphere(30.0), c, unmonitored());
   const MeshOutput& out = graded.meshes.front();
   expect_holes_are_tunnels(out);
   // Same pattern, same holes: none merged with a neighbour, none closed.
@@ -180,7 +174,7 @@ TEST(HoleMapPipeline, GradedHolesGrowAlongTheAxisAndNeverMerge) {
   EXPECT_EQ(graded.grading->clamped_fraction, 0.0);
   // Mean diameter in four slabs along z rises slab by slab.
   std::array<double, 4> sum{}, count{};
-  for (const Hole& hole : out.holes.holes) {
+  for (const BandHole& hole : out.holes.holes) {
     const auto slab = static_cast<std::size_t>(std::clamp((hole.centroid.z() + 30.0) / 15.0, 0.0, 3.999));
     sum[slab] += hole.diameter;
     count[slab] += 1;
@@ -191,20 +185,21 @@ TEST(HoleMapPipeline, GradedHolesGrowAlongTheAxisAndNeverMerge) {
 
 TEST(HoleMapPipeline, PaintedFieldsGradeHolesAndKeepACapSolid) {
   const TempDir dir;
-  PipelineConfig c;
-  c.mesh = write_painted_sphere(dir.path(), 30.0, 15.0);
-  c.holes = {6.0, 10.0, 0.0};
+  const Input painted =
+      load_mesh(write_painted_sphere(dir.path(), 30.0, 15.0), Unit::mm, {"hole_mm", "keepout"});
+  Options c;
+  c.hole_diameter = 6.0;
+  c.spacing = 10.0;
   c.grade = parse_grade("field:hole_mm");
   c.keep_out_mask = "keepout";
-  c.output = dir / "painted.stl";
-  const PipelineResult r = run_pipeline(c);
+  const PipelineResult r = run_pipeline(painted, c, unmonitored());
   const MeshOutput& out = r.meshes.front();
   expect_holes_are_tunnels(out);
   ASSERT_TRUE(r.grading);
   EXPECT_NEAR(r.grading->min_diameter, 4.0, 0.3);
   EXPECT_NEAR(r.grading->max_diameter, 7.5, 0.3);
   double low = 0, low_n = 0, high = 0, high_n = 0;
-  for (const Hole& hole : out.holes.holes) {
+  for (const BandHole& hole : out.holes.holes) {
     EXPECT_LT(hole.centroid.z() + hole.diameter / 2, 15.0 + 1.0) << "a hole in the kept-out cap";
     (hole.centroid.z() < -10 ? low : high) += hole.diameter;
     (hole.centroid.z() < -10 ? low_n : high_n) += 1;

@@ -5,8 +5,10 @@
 #include <filesystem>
 
 #include "io/mesh_io.hpp"
+#include "io/mesh_writers.hpp"
 #include "io/stl.hpp"
 #include "pipeline/pipeline.hpp"
+#include "poreshell/io.hpp"
 
 using namespace poreshell;
 namespace fs = std::filesystem;
@@ -33,14 +35,12 @@ Box bounding_box(const TriangleMesh& m) {
 
 // The reference Euler characteristic of the unperforated narrow volume: two spheres, two tori.
 TEST(Pipeline, UnperforatedShellOfTheShapes) {
-  const fs::path dir = scratch_dir("shapes");
   for (const auto& [shape, chi] : {std::pair{"sphere", 4}, std::pair{"torus", 0}}) {
-    PipelineConfig c;
-    c.shape = shape;
+    Options c;
     c.resolution = 65;  // the torus reaches 0.05 from the cube's faces: coarser bands touch them
     c.max_steps = 1;
-    c.output = dir / (std::string(shape) + ".stl");
-    const PipelineResult r = run_pipeline(c);
+    const PipelineResult r =
+        run_pipeline(std::string(shape) == "torus" ? torus() : sphere(), c, unmonitored());
     EXPECT_EQ(r.unperforated_euler, chi) << shape;
     EXPECT_EQ(r.input.kind, "shape");
   }
@@ -48,13 +48,12 @@ TEST(Pipeline, UnperforatedShellOfTheShapes) {
 
 TEST(Pipeline, BunnyScanGivesAClosedManifoldPorousShellInTheScansUnits) {
   const fs::path dir = scratch_dir("bunny");
-  PipelineConfig c;
-  c.mesh = fs::path(PORESHELL_DATA_DIR) / "stanford-bunny.obj";
+  const fs::path scan_path = fs::path(PORESHELL_DATA_DIR) / "stanford-bunny.obj";
+  Options c;
   c.resolution = 49;
   c.alpha = 300;  // alpha eps_4^2 = 0.12, the paper's bunny value (2200 at N = 131)
-  c.iso_levels = {0.3, 0.0};
-  c.output = dir / "bunny.stl";
-  const PipelineResult r = run_pipeline(c);
+  c.iso = {0.3, 0.0};
+  const PipelineResult r = run_pipeline(load_mesh(scan_path), c, unmonitored());
   EXPECT_EQ(r.input.kind, "mesh");
   EXPECT_EQ(r.input.boundary_edges, 223);
   EXPECT_EQ(r.grid_dims[0], 49);  // the longest side carries the resolution
@@ -62,12 +61,14 @@ TEST(Pipeline, BunnyScanGivesAClosedManifoldPorousShellInTheScansUnits) {
   EXPECT_GE(r.spots.count, 15);
   EXPECT_LT(r.spots.area_fraction, 0.45);
 
-  const Box scan = bounding_box(read_triangle_mesh(c.mesh));
+  const Box scan = bounding_box(read_triangle_mesh(scan_path));
   const double h_input = r.h / r.input.scale;  // the grid spacing in the scan's units
   for (const MeshOutput& out : r.meshes) {
     EXPECT_TRUE(out.topology.closed() && out.topology.manifold() && out.topology.oriented());
     EXPECT_GT(out.pores_from_euler, 10) << "iso " << out.iso;
-    const TriangleMesh written = read_stl_binary(out.path);
+    const fs::path path = dir / "bunny.stl";
+    write_mesh(path, out.mesh);
+    const TriangleMesh written = read_stl_binary(path);
     EXPECT_EQ(static_cast<std::int64_t>(written.triangles.size()), out.topology.triangles);
     // Written in the scan's units: the shell hugs the scan within the band's half-width (about 2 h).
     const Box b = bounding_box(written);
@@ -81,15 +82,13 @@ TEST(Pipeline, BunnyScanGivesAClosedManifoldPorousShellInTheScansUnits) {
 // Large pores on a fine grid (the interface over 8 cells): the pattern is formed on the grid where it
 // spans 4 and carried; the fine run relaxes it in a few steps and keeps its spots. Off: no coarse level.
 TEST(Pipeline, CoarseStartWhereTheInterfaceSpansManyVoxels) {
-  const fs::path dir = scratch_dir("coarse-start");
-  PipelineConfig c;
-  c.mesh = fs::path(PORESHELL_DATA_DIR) / "stanford-bunny.obj";
+  const Input bunny = load_mesh(fs::path(PORESHELL_DATA_DIR) / "stanford-bunny.obj");
+  Options c;
   c.resolution = 97;
   c.epsilon_m = 8;  // the 49-point grid's eps_4
-  c.dt_in_h = 200;  // and its dt = 100 h
+  c.dt_h = 200;     // and its dt = 100 h
   c.alpha = 300;    // and the alpha of the test above
-  c.output = dir / "bunny.stl";
-  const PipelineResult r = run_pipeline(c);
+  const PipelineResult r = run_pipeline(bunny, c, unmonitored());
   ASSERT_TRUE(r.coarse_start);
   const CoarseLevel& coarse = *r.coarse_start;
   EXPECT_NEAR(coarse.h, 2.0 * r.h, 1e-12);
@@ -103,5 +102,5 @@ TEST(Pipeline, CoarseStartWhereTheInterfaceSpansManyVoxels) {
 
   c.coarse_start = false;
   c.max_steps = 1;
-  EXPECT_FALSE(run_pipeline(c).coarse_start);
+  EXPECT_FALSE(run_pipeline(bunny, c, unmonitored()).coarse_start);
 }

@@ -36,12 +36,12 @@ class TempDir {
   std::filesystem::path path_;
 };
 
-// The message of the InputError that `f` throws, or "" if it throws none.
+// The message of the poreshell::Error (bad input or option) that `f` throws, or "" if it throws none.
 template <class F>
 std::string input_error(F&& f) {
   try {
     f();
-  } catch (const poreshell::InputError& e) {
+  } catch (const poreshell::Error& e) {
     return e.what();
   }
   return "";

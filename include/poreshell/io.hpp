@@ -1,0 +1,41 @@
+#pragma once
+// Files: reading inputs, writing meshes, the JSON report and the hole table. Every writer writes a
+// temporary file and renames it, so a failure leaves no partial file. Errors are poreshell::Error.
+
+#include <filesystem>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "poreshell/export.hpp"
+#include "poreshell/geometry.hpp"
+#include "poreshell/result.hpp"
+
+namespace poreshell {
+
+// A triangle mesh: STL, OBJ, PLY, OFF or 3MF by extension. `fields` names PLY vertex properties to
+// read into MeshInput::vertex_fields (for keep_out_mask and grading by a field).
+PORESHELL_API MeshInput load_mesh(const std::filesystem::path& path, Unit unit = Unit::mm,
+                                  const std::vector<std::string>& fields = {});
+// A point cloud: XYZ text (.xyz, .txt, .pts) or PLY vertices (faces, if any, become patches).
+PORESHELL_API PointsInput load_points(const std::filesystem::path& path, Unit unit = Unit::mm);
+
+// A mesh in mm: .stl (binary), .3mf, .obj or .ply (binary) by extension.
+PORESHELL_API void save_mesh(const std::filesystem::path& path, const Mesh& mesh);
+// Checks before a long run that `path` can be written: its folder exists and it is not a folder.
+PORESHELL_API void check_output_path(const std::filesystem::path& path);
+// The same for a mesh, whose extension must also be one save_mesh writes.
+PORESHELL_API void check_mesh_path(const std::filesystem::path& path);
+// Where each level's mesh goes: OUT itself for one level, OUT-isoC.ext for several.
+PORESHELL_API std::filesystem::path output_path_for_level(const std::filesystem::path& output, double iso,
+                                                          bool several);
+
+// The report as JSON text (the fields README.md lists), and written to a file.
+PORESHELL_API std::string report_json(const Report& report, std::span<const Output> outputs = {});
+PORESHELL_API void save_report(const std::filesystem::path& path, const Report& report,
+                               std::span<const Output> outputs = {});
+
+// The hole table as CSV: a header row, then one hole a line.
+PORESHELL_API void save_holes_csv(const std::filesystem::path& path, std::span<const Hole> holes);
+
+}  // namespace poreshell

@@ -1,0 +1,109 @@
+#pragma once
+// Everything a run can be asked for, in one struct. Lengths are in millimetres (the input's unit is
+// stated with the input); the defaults are the paper's section 3.2 values and the CLI's defaults.
+// validate() checks an Options alone; perforate() checks it against the input too.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "poreshell/export.hpp"
+#include "poreshell/geometry.hpp"
+
+namespace poreshell {
+
+enum class Mode {
+  shell,          // a wall of its own thickness, pores straight through it (printable default)
+  narrow_volume,  // the paper's Fig. 3(b): the band itself, about 3.8 h thick
+};
+enum class WallOffset { centered, inside, outside };
+enum class SolverKind {
+  fast,       // stabilised scheme, band multigrid (docs/solver.md)
+  reference,  // the paper's scheme (2.3)-(2.4) by pointwise relaxation
+};
+enum class InnerIteration { gauss_seidel, jacobi };  // the reference solver's relaxation
+enum class PointRoute {
+  direct,  // distance to discs fitted to the points (no PDE)
+  paper,   // densify, then the segmentation equation (3.3)
+};
+
+// Hole-size grading: diameters in mm over the surface (docs/printing.md).
+struct Grade {
+  enum class Kind {
+    axis,    // from_diameter at the model's lowest extent along `axis` to to_diameter at its highest
+    line,    // from_diameter at `from` to to_diameter at `to`, constant beyond them
+    radial,  // from_diameter at `from`, easing to the base diameter at distance `radius`
+    field,   // a vertex field of the input mesh: diameters in mm, or 0..1 mapped to from..to
+  } kind = Kind::axis;
+  int axis = 2;  // 0, 1, 2: x, y, z
+  Point from{}, to{};
+  double from_diameter = 0.0, to_diameter = 0.0, radius = 0.0;
+  std::string field;    // field: the vertex field's name
+  bool mapped = false;  // field: values 0..1 mapped to from_diameter..to_diameter
+};
+
+// Parses the CLI's grading spec: axis:x|y|z:D1:D2, line:X,Y,Z:D1:X,Y,Z:D2, radial:X,Y,Z:R:D0,
+// field:NAME[:D0:D1]. Throws Error (invalid_option, `grade`).
+PORESHELL_API Grade parse_grade(const std::string& text);
+
+struct KeepOutSphere {
+  Point centre{};  // mm, input frame
+  double radius = 0.0;
+};
+struct KeepOutBox {
+  Point min{}, max{};  // mm, input frame
+};
+
+struct Options {
+  // Holes in millimetres (0: not given). With a diameter, the hole map chooses alpha, epsilon,
+  // phi_bar, the time step, the pore level and the voxel size; the model options below are then unused.
+  double hole_diameter = 0.0;
+  double spacing = 0.0;   // centre to nearest centre; default diameter / 0.6
+  double porosity = 0.0;  // open share of the surface, instead of one of the two lengths
+  std::optional<Grade> grade;
+
+  // The grid: points along the longest side, or the voxel size in mm.
+  int resolution = 131;
+  double voxel_size = 0.0;
+
+  // The printed solid.
+  Mode mode = Mode::shell;
+  double wall = 0.0;  // mm; 0: the band's width 2 delta = 3.81 h
+  WallOffset offset = WallOffset::centered;
+  double rim = 0.0;  // mm of solid along the mesh's open boundary
+  std::vector<KeepOutSphere> keep_out;
+  std::vector<KeepOutBox> keep_out_boxes;
+  std::string keep_out_mask;       // a vertex field of the mesh input: solid where it is 1
+  std::int64_t max_triangles = 0;  // reduce each output to at most this many triangles; 0: as meshed
+  double max_deviation = 0.05;     // mm, bound on the reduction's distance from the meshed surface
+
+  // The model, eq. (2.1), in the paper's frame (the grid's longest side is 1).
+  double alpha = 1400.0;
+  double epsilon_m = 4.0;  // epsilon = m h / (2 sqrt 2 atanh 0.9)
+  double dt_h = 100.0;     // time step in units of h
+  double phi_bar = -0.3;
+  std::vector<double> iso{0.0};    // pore levels: one output each
+  double initial_amplitude = 0.5;  // phi(x, 0) = phi_bar + amplitude * rand(x), rand in [-1, 1]
+  std::uint64_t seed = 1;
+
+  // The run.
+  double tolerance = 1e-3;  // stop when e_c < tolerance
+  int max_steps = 2000;
+  SolverKind solver = SolverKind::fast;
+  double fast_tolerance = 1e-3;    // fast solver: max-norm error bound of each step's solves
+  double min_stabilisation = 0.0;  // fast solver: floor on S
+  bool coarse_start = true;        // fast solver: form large pores on a coarser grid first
+  InnerIteration inner = InnerIteration::gauss_seidel;
+  double inner_tolerance = 1e-8;  // reference solver
+  int energy_every = 0;           // evaluate the energy (3.2) every K steps; 0: never
+  PointRoute point_route = PointRoute::direct;
+  double max_memory_gb = 0.0;  // refuse runs estimated to need more; 0: what is available
+  int threads = 0;             // worker threads; 0: all cores. Results do not depend on it
+};
+
+// Throws Error (invalid_option, naming the option) for a value out of range or two options that
+// contradict each other.
+PORESHELL_API void validate(const Options& options);
+
+}  // namespace poreshell

@@ -1,0 +1,146 @@
+#pragma once
+// What a run returns: the solid's mesh per pore level (in mm, in the input's frame), the table of its
+// holes measured on that mesh, and the report (the JSON report's content as a struct).
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "poreshell/geometry.hpp"
+
+namespace poreshell {
+
+// One hole through the wall, measured on the output mesh: its cross-section at mid-wall.
+struct Hole {
+  Point centre{};            // mm, input frame
+  Point normal{};            // unit surface normal
+  double diameter = 0.0;     // mm, sqrt(4 A / pi) of the cross-section's area A
+  double circularity = 0.0;  // 4 pi A / P^2 (1 for a circle)
+  double nearest = 0.0;      // mm, to the nearest other hole's centre (0 when alone)
+};
+
+struct TopologyReport {
+  std::int64_t vertices = 0, triangles = 0, euler_characteristic = 0, components = 0;
+  bool closed = false, manifold = false, oriented = false;
+  double volume = 0.0;  // mm^3
+  double min_angle_degrees = 0.0;
+};
+
+// Hole statistics from the band's spots at one level (lengths in mm).
+struct SpotHoleStats {
+  std::int64_t count = 0;
+  double diameter_mean = 0.0, diameter_cv = 0.0, spacing_mean = 0.0, spacing_cv = 0.0, porosity = 0.0;
+};
+
+struct ReductionReport {
+  std::int64_t triangles_before = 0, triangles_after = 0;
+  double max_distance = 0.0;  // mm
+  bool reached_target = false;
+};
+
+struct WallReport {
+  double median = 0.0, min = 0.0, max = 0.0;  // mm, across the written solid's wall
+  std::int64_t probes = 0;
+};
+
+// One output: the solid at one pore level.
+struct LevelReport {
+  double iso = 0.0;
+  std::string path;  // set when saved
+  TopologyReport topology;
+  SpotHoleStats holes;
+  std::optional<ReductionReport> reduction;
+  WallReport wall;
+  std::int64_t spots_at_iso = 0;      // connected components of {phi > iso} on the band
+  std::int64_t pores_from_euler = 0;  // (chi of the unperforated solid - chi) / 2
+};
+
+struct Report {
+  struct {
+    std::string kind;  // shape, mesh or points
+    std::string name;
+    std::int64_t vertices = 0, triangles = 0, boundary_edges = 0, dropped_degenerate = 0;
+    std::int64_t euler_characteristic = 0;
+    double scale_to_grid = 1.0;  // grid units per input unit
+    std::string units = "mm";
+    double mm_per_unit = 1.0;
+    std::string point_route;
+    std::int64_t densified_points = 0;
+    int segmentation_iterations = 0;
+  } input;
+  std::array<int, 3> grid_dims{};
+  double h = 0.0;  // grid units (the longest side is 1)
+  double h_mm = 0.0;
+  struct {
+    std::string mode, offset;
+    double wall_mm = 0.0, spacing_mm = 0.0, seconds_sample = 0.0;
+    std::int64_t samples = 0, incomplete_stencils = 0;
+  } solid;
+  struct {
+    std::int64_t voxels = 0, ghosts = 0, paper_ghosts = 0, closure_added = 0, bytes = 0;
+  } band;
+  struct {
+    double alpha = 0.0, epsilon = 0.0, phi_bar = 0.0, dt = 0.0;  // the paper's frame
+    // (1 - 3 phi_bar^2)^2 > 4 alpha eps^2: the uniform state is unstable, so a pattern forms.
+    bool pattern_can_form = true;
+  } model;
+  struct Request {
+    double diameter = 0.0, spacing = 0.0, porosity = 0.0;
+  } requested;
+  struct Plan {
+    double diameter = 0.0, spacing = 0.0, porosity = 0.0, pore_level = 0.0, voxel_size = 0.0;
+    double alpha_per_mm2 = 0.0, epsilon_mm = 0.0, phi_bar = 0.0;
+  };
+  std::optional<Plan> plan;  // the hole map's choice, when holes were asked in mm
+  struct Grading {
+    double min_diameter = 0.0, max_diameter = 0.0, clamped_fraction = 0.0, printable_min = 0.0,
+           printable_max = 0.0;
+  };
+  std::optional<Grading> grading;
+  struct CoarseStart {
+    std::array<int, 3> grid{};
+    double h_mm = 0.0, h = 0.0, final_ec = 0.0, seconds = 0.0;
+    std::int64_t band_voxels = 0, steps = 0, inner_iterations = 0, repeated_steps = 0, spots = 0;
+    bool reached_tolerance = false;
+  };
+  struct {
+    std::string name, inner_iteration;
+    std::int64_t steps = 0, inner_iterations = 0, repeated_steps = 0;
+    double final_ec = 0.0, tolerance = 0.0;
+    bool reached_tolerance = false, inner_converged = true;
+    std::optional<CoarseStart> coarse_start;
+    double energy_first = 0.0, energy_last = 0.0;  // NaN when not evaluated
+    std::vector<std::pair<int, double>> energy_trace;
+  } solver;
+  struct {
+    std::int64_t spots = 0;
+    double size_cv = 0.0, mean_size_voxels = 0.0, area_fraction = 0.0, spacing_mean_voxels = 0.0,
+           spacing_cv = 0.0;
+  } pattern;
+  std::vector<LevelReport> outputs;
+  std::int64_t unperforated_euler_characteristic = 0;
+  struct {
+    std::int64_t band_bytes = 0, solver_bytes = 0, peak_rss_after_band = 0, peak_rss_after_solve = 0,
+                 peak_rss_total = 0;
+  } memory;
+  struct {
+    double input = 0.0, band = 0.0, solve = 0.0, mesh = 0.0, total = 0.0;
+  } seconds;
+  int threads = 0;
+};
+
+struct Output {
+  double iso = 0.0;
+  Mesh mesh;                // mm, input frame; closed, manifold, outward oriented
+  std::vector<Hole> holes;  // measured on `mesh`
+};
+
+struct Result {
+  std::vector<Output> outputs;  // one per pore level (Options::iso, or the hole map's level)
+  Report report;
+};
+
+}  // namespace poreshell

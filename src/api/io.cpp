@@ -1,0 +1,110 @@
+// The public API's files (include/poreshell/io.hpp): the readers and writers of io/, in public types.
+
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+#include "core/error.hpp"
+#include "input/placement.hpp"
+#include "input/vertex_field.hpp"
+#include "io/atomic_file.hpp"
+#include "io/mesh_io.hpp"
+#include "io/mesh_writers.hpp"
+#include "io/point_io.hpp"
+#include "io/report_json.hpp"
+#include "poreshell/io.hpp"
+
+namespace poreshell {
+namespace {
+
+std::vector<Point> to_points(const std::vector<Vec3>& vertices) {
+  std::vector<Point> points;
+  points.reserve(vertices.size());
+  for (const Vec3& v : vertices) points.push_back({v.x(), v.y(), v.z()});
+  return points;
+}
+
+}  // namespace
+
+MeshInput load_mesh(const std::filesystem::path& path, Unit unit, const std::vector<std::string>& fields) {
+  MeshInput input;
+  TriangleMesh mesh = read_triangle_mesh(path);
+  input.mesh.vertices = to_points(mesh.vertices);
+  input.mesh.triangles.assign(mesh.triangles.begin(), mesh.triangles.end());
+  input.unit = unit;
+  input.name = path.string();
+  // The file's vertices were welded and renumbered: each field's value is taken at the vertex's
+  // position on the file's own faces, which is the value the file gives that vertex.
+  for (const std::string& name : fields) {
+    const VertexScalarField field = VertexScalarField::read_ply(path, name);
+    std::vector<double>& values = input.vertex_fields[name];
+    values.reserve(mesh.vertices.size());
+    for (const Vec3& v : mesh.vertices) values.push_back(field.at(v));
+  }
+  return input;
+}
+
+PointsInput load_points(const std::filesystem::path& path, Unit unit) {
+  PointCloud cloud = read_point_cloud(path);
+  PointsInput input;
+  input.points = to_points(cloud.points);
+  input.patches.assign(cloud.triangles.begin(), cloud.triangles.end());
+  input.unit = unit;
+  input.name = path.string();
+  return input;
+}
+
+void save_mesh(const std::filesystem::path& path, const Mesh& mesh) {
+  check_mesh_path(path);
+  write_mesh(path, to_triangle_mesh(mesh));
+}
+
+void check_output_path(const std::filesystem::path& path) {
+  const std::filesystem::path dir =
+      path.parent_path().empty() ? std::filesystem::path(".") : path.parent_path();
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec))
+    throw Error(ErrorCode::io, "cannot write '" + path.string() + "': the directory '" + dir.string() +
+                                   "' does not exist; create it or choose another path");
+  if (std::filesystem::is_directory(path, ec))
+    throw Error(ErrorCode::io, "cannot write '" + path.string() + "': it is a directory; give a file name");
+}
+
+void check_mesh_path(const std::filesystem::path& path) {
+  check_output_path(path);
+  check_output_extension(path);
+}
+
+std::filesystem::path output_path_for_level(const std::filesystem::path& output, double iso, bool several) {
+  if (!several) return output;
+  std::ostringstream name;
+  name << output.stem().string() << "-iso" << iso << output.extension().string();
+  return output.parent_path() / name.str();
+}
+
+std::string report_json(const Report& report, std::span<const Output> outputs) {
+  return to_json(report, outputs).dump(2) + "\n";
+}
+
+void save_report(const std::filesystem::path& path, const Report& report, std::span<const Output> outputs) {
+  check_output_path(path);
+  const std::string text = report_json(report, outputs);
+  write_atomically(
+      path, [&](std::ostream& out) { out << text; }, false);
+}
+
+void save_holes_csv(const std::filesystem::path& path, std::span<const Hole> holes) {
+  check_output_path(path);
+  write_atomically(
+      path,
+      [&](std::ostream& out) {
+        out << "x_mm,y_mm,z_mm,nx,ny,nz,diameter_mm,circularity,nearest_mm\n" << std::setprecision(9);
+        for (const Hole& h : holes)
+          out << h.centre[0] << ',' << h.centre[1] << ',' << h.centre[2] << ',' << h.normal[0] << ','
+              << h.normal[1] << ',' << h.normal[2] << ',' << h.diameter << ',' << h.circularity << ','
+              << h.nearest << '\n';
+      },
+      false);
+}
+
+}  // namespace poreshell

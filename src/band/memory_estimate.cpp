@@ -1,0 +1,70 @@
+#include "band/memory_estimate.hpp"
+
+#include <unistd.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "band/band.hpp"
+#include "core/error.hpp"
+#include "core/grid.hpp"
+
+namespace poreshell {
+namespace {
+
+// Peak bytes of a whole run per band voxel, measured over the bunny scaling series (docs/benchmarks.md:
+// 1.1-1.5 kB, the shell and its mesh included).
+constexpr double kPeakBytesPerBandVoxel = 1300.0;
+
+// MemAvailable from /proc/meminfo, else the physical memory.
+double available_memory_bytes() {
+  std::ifstream meminfo("/proc/meminfo");
+  std::string key;
+  double kib = 0.0;
+  std::string unit;
+  while (meminfo >> key >> kib >> unit)
+    if (key == "MemAvailable:") return kib * 1024.0;
+  return static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE));
+}
+
+}  // namespace
+
+BandEstimate estimate_band(const Surface& surface, const Box& domain, int resolution) {
+  const int coarse_points = (resolution - 1) / 8 + 1;
+  if (coarse_points < 17) return {};  // a small run: the estimate would be coarser than the run itself
+  const double fine_h = (domain.max - domain.min).maxCoeff() / (resolution - 1);
+  const double coarse_h = 8.0 * fine_h;
+  Box padded{domain.min - Vec3::Constant(4 * coarse_h), domain.max + Vec3::Constant(4 * coarse_h)};
+  const Grid coarse = Grid::fitted(
+      padded, static_cast<int>(std::lround((padded.max - padded.min).maxCoeff() / coarse_h)) + 1);
+  try {
+    const double voxels =
+        static_cast<double>(build_band(surface, coarse).size()) * std::pow(coarse.h() / fine_h, 2);
+    return {voxels, voxels * kPeakBytesPerBandVoxel};
+  } catch (const std::exception&) {
+    return {};  // no estimate on this grid: the run itself will say what is wrong
+  }
+}
+
+void check_band_fits(const Surface& surface, const Box& domain, int resolution, double limit_gb, double h_mm,
+                     bool holes_in_mm) {
+  const double limit = limit_gb > 0.0 ? limit_gb * 1e9 : available_memory_bytes();
+  const BandEstimate estimate = estimate_band(surface, domain, resolution);
+  if (estimate.peak_bytes <= limit) return;
+  const double shrink = std::sqrt(limit / estimate.peak_bytes);
+  std::ostringstream message;
+  message.precision(3);
+  message << "this run needs about " << estimate.peak_bytes / 1e9 << " GB (about " << estimate.voxels / 1e6
+          << " million band voxels at h = " << h_mm << " mm), more than the " << limit / 1e9 << " GB "
+          << (limit_gb > 0.0 ? "allowed by `max_memory_gb`" : "available") << ": ";
+  if (!holes_in_mm)
+    message << "use `resolution` " << static_cast<int>(1 + (resolution - 1) * shrink)
+            << " or less, or `voxel_size` " << h_mm / shrink << " mm or more";
+  else  // the voxel size follows the holes: memory grows like (size of the model / spacing)^2
+    message << "ask for holes and spacing " << 1.0 / shrink << " times larger or more";
+  throw Error(ErrorCode::too_large, message.str(), limit_gb > 0.0 ? "max_memory_gb" : "");
+}
+
+}  // namespace poreshell

@@ -1,0 +1,107 @@
+#include "pipeline/validate.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "band/band.hpp"
+#include "core/error.hpp"
+#include "solver/model.hpp"
+
+namespace poreshell {
+namespace {
+
+bool finite(double x) {
+  return std::isfinite(x);
+}
+
+void require(bool ok, const char* option, const std::string& message) {
+  if (!ok) throw OptionError(option, message);
+}
+
+// A voxel size up to this factor above the hole map's keeps the pattern's interface resolved
+// (eps >= 0.77 h); coarser grids change the spacing.
+constexpr double kCoarsestVoxelPerPlanned = 1.25;
+
+std::string mm(double x) {
+  std::string s = std::to_string(x);
+  return s;
+}
+
+}  // namespace
+
+void validate(const Options& c) {
+  require(c.resolution >= 9, "resolution",
+          "`resolution` must be at least 9 grid points along the longest side");
+  require(c.resolution <= 2048, "resolution", "`resolution` above 2048 is not supported");
+  require(c.voxel_size >= 0.0 && finite(c.voxel_size), "voxel_size",
+          "`voxel_size` must be a positive length in millimetres");
+  require(c.wall >= 0.0 && finite(c.wall), "wall",
+          "`wall` must be a positive thickness in millimetres (0: the default)");
+  require(c.mode == Mode::shell || (c.wall == 0.0 && c.offset == WallOffset::centered), "wall",
+          "`wall` and `offset` shape the shell: use them with `mode` shell");
+  require(c.max_memory_gb >= 0.0 && finite(c.max_memory_gb), "max_memory_gb",
+          "`max_memory_gb` must be a positive number of GB");
+  require(c.rim >= 0.0 && finite(c.rim), "rim", "`rim` must be a width >= 0 in mm");
+  for (const KeepOutSphere& k : c.keep_out)
+    require(k.radius > 0.0 && finite(k.centre[0] + k.centre[1] + k.centre[2] + k.radius), "keep_out",
+            "`keep_out` takes X,Y,Z,R in mm with a radius R > 0");
+  for (const KeepOutBox& k : c.keep_out_boxes)
+    require(k.max[0] > k.min[0] && k.max[1] > k.min[1] && k.max[2] > k.min[2] &&
+                finite(k.min[0] + k.min[1] + k.min[2] + k.max[0] + k.max[1] + k.max[2]),
+            "keep_out_boxes",
+            "`keep_out_boxes` takes X0,Y0,Z0,X1,Y1,Z1 in mm with X0 < X1, Y0 < Y1 and Z0 < Z1");
+  const bool zones =
+      c.rim > 0.0 || !c.keep_out.empty() || !c.keep_out_boxes.empty() || !c.keep_out_mask.empty();
+  require(!zones || c.solver == SolverKind::fast, "solver",
+          "`rim` and `keep_out` act through the fast solver: use `solver` fast");
+  require(c.epsilon_m > 0.0 && finite(c.epsilon_m), "epsilon_m",
+          "`epsilon_m` must be positive (the paper uses 4)");
+  require(c.tolerance > 0.0 && finite(c.tolerance), "tolerance",
+          "`tolerance` must be positive (the paper uses 1e-3)");
+  require(c.fast_tolerance > 0.0 && finite(c.fast_tolerance), "fast_tolerance",
+          "`fast_tolerance` must be positive");
+  require(c.inner_tolerance > 0.0 && finite(c.inner_tolerance), "inner_tolerance",
+          "`inner_tolerance` must be positive");
+  require(c.min_stabilisation >= 0.0 && finite(c.min_stabilisation), "min_stabilisation",
+          "`min_stabilisation` must be >= 0");
+  require(c.max_steps >= 1, "max_steps", "`max_steps` must be at least 1");
+  require(c.energy_every >= 0, "energy_every", "`energy_every` must be >= 0 (0 turns the energy off)");
+  require(c.initial_amplitude >= 0.0 && finite(c.initial_amplitude), "initial_amplitude",
+          "`initial_amplitude` must be >= 0");
+  require(c.threads >= 0, "threads", "`threads` must be >= 0 (0: all cores)");
+  require(!c.iso.empty(), "iso", "give at least one `iso` level");
+  for (std::size_t i = 0; i < c.iso.size(); ++i) {
+    require(c.iso[i] > -1.0 && c.iso[i] < 1.0, "iso", "`iso` levels must lie strictly between -1 and 1");
+    for (std::size_t j = 0; j < i; ++j)
+      require(c.iso[j] != c.iso[i], "iso", "`iso` lists the same level twice");
+  }
+  // The model's own checks (epsilon is set from the grid later; any positive value passes here).
+  validate(ModelParameters{c.alpha, 1.0, c.phi_bar}, c.dt_h);
+  for (double x : {c.hole_diameter, c.spacing, c.porosity})
+    require(x >= 0.0 && finite(x), "hole_diameter",
+            "`hole_diameter`, `spacing` and `porosity` must be positive numbers (0: not given)");
+  const bool holes = c.hole_diameter > 0.0 || c.spacing > 0.0 || c.porosity > 0.0;
+  require(!c.grade || holes, "grade",
+          "`grade` sets hole diameters in mm: add `hole_diameter` MM (and `spacing` MM or `porosity` F)");
+  require(c.max_triangles == 0 || c.max_triangles >= 4, "max_triangles",
+          "`max_triangles` must be at least 4 (0: keep every triangle)");
+  require(c.max_deviation > 0.0 && finite(c.max_deviation), "max_deviation",
+          "`max_deviation` must be a positive length in mm");
+}
+
+double choose_voxel_size(double asked, const PatternPlan& plan) {
+  if (asked <= 0.0) return plan.voxel_size;
+  require(asked <= kCoarsestVoxelPerPlanned * plan.voxel_size, "voxel_size",
+          "`voxel_size` " + mm(asked) + " mm is too coarse for holes at " + mm(plan.spacing) +
+              " mm spacing: use at most " + mm(kCoarsestVoxelPerPlanned * plan.voxel_size) +
+              " mm, or leave `voxel_size` out (" + mm(plan.voxel_size) + " mm)");
+  return asked;
+}
+
+void check_reduction(const Options& c, double wall_mm) {
+  require(c.max_triangles == 0 || c.max_deviation <= 0.25 * wall_mm, "max_deviation",
+          "`max_deviation` " + mm(c.max_deviation) + " mm is more than a quarter of the " + mm(wall_mm) +
+              " mm wall: the reduced wall's two sides could meet; use at most " + mm(0.25 * wall_mm) + " mm");
+}
+
+}  // namespace poreshell

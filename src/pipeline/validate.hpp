@@ -1,0 +1,18 @@
+#pragma once
+// The options' checks that need more than one stage: against each other (validate(), public) and
+// with the grid and wall they lead to. Each stage checks its own arguments as well.
+
+#include "input/placement.hpp"
+#include "pattern/hole_map.hpp"
+#include "poreshell/options.hpp"
+
+namespace poreshell {
+
+// The voxel size for a hole plan: the plan's, or the one asked for when it keeps the pattern's interface
+// resolved. Throws OptionError(voxel_size) for a coarser one.
+double choose_voxel_size(double asked, const PatternPlan& plan);
+
+// A reduction bound that could let the reduced wall's sides meet is refused.
+void check_reduction(const Options& options, double wall_mm);
+
+}  // namespace poreshell

@@ -1,0 +1,52 @@
+#include "shell/wall_probes.hpp"
+
+#include <algorithm>
+
+#include "core/error.hpp"
+
+namespace poreshell {
+
+void make_side_test(WallOffset offset, const PlacedSurface& placed, double h, SideTest& test) {
+  if (offset == WallOffset::centered || placed.input.kind == "shape") return;
+  if (!placed.mesh)
+    throw OptionError("offset",
+                      "`offset` " + to_string(offset) +
+                          " needs a triangle mesh or shape input to tell inside from outside: use `offset` "
+                          "centered");
+  test.winding.emplace(*placed.mesh);
+  const double step = 0.25 * h;
+  test.side = [&winding = *test.winding, step](const Vec3& x, const Vec3& cp) {
+    return side_of_surface(winding, x, cp, step);
+  };
+}
+
+std::vector<WallProbe> wall_probes(const PlacedSurface& placed, const NarrowBand& band,
+                                   std::span<const double> phi, double iso, double wall_mm, WallOffset offset,
+                                   const SideFunction& side) {
+  std::vector<WallProbe> probes;
+  const std::size_t count = 256, stride = std::max<std::size_t>(1, band.size() / (4 * count));
+  const double h = band.grid().h();
+  const double below = 0.5 * (iso + *std::min_element(phi.begin(), phi.end()));
+  for (std::size_t v = 0; v < band.size() && probes.size() < count; v += stride) {
+    if (!(phi[v] < below)) continue;
+    const Vec3 x = band.grid().position(band.voxels()[v]);
+    const std::optional<Vec3> cp = closest_point_at(*placed.surface, x, h, ClosestPointRule::exact);
+    if (!cp || (x - *cp).norm() < 0.25 * h) continue;  // the normal is only defined off the surface
+    // The mirror point across the surface must share the closest point, else cp is on an open edge or
+    // the surface folds within h: the line along x - cp would not cross the wall.
+    const std::optional<Vec3> mirror =
+        closest_point_at(*placed.surface, 2.0 * *cp - x, h, ClosestPointRule::exact);
+    if (!mirror || (*mirror - *cp).norm() > 0.25 * h) continue;
+    Vec3 n = (x - *cp).normalized();
+    if (offset != WallOffset::centered) {
+      const double outside = side ? side(x, *cp) : placed.surface->distance(x);
+      if (outside == 0.0) continue;
+      if (outside < 0.0) n = -n;
+    }
+    const double centre = offset == WallOffset::centered ? 0.0 : (offset == WallOffset::outside ? 0.5 : -0.5);
+    probes.push_back({placed.to_mm(*cp) + centre * wall_mm * n, n});
+  }
+  return probes;
+}
+
+}  // namespace poreshell

@@ -1,0 +1,37 @@
+#pragma once
+// Where to measure the printed wall, and which side of the surface is outside: the two things the
+// shell needs of the input beyond its distance.
+
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "band/band.hpp"
+#include "geometry/winding_number.hpp"
+#include "input/placement.hpp"
+#include "shell/shell.hpp"
+#include "shell/wall_measure.hpp"
+
+namespace poreshell {
+
+// Which side of the surface a point lies on, where the wall's offset needs it: a mesh input's winding
+// number (shapes have a signed distance: no function needed). Not movable: `side` refers to `winding`.
+struct SideTest {
+  SideTest() = default;
+  SideTest(const SideTest&) = delete;
+  SideTest& operator=(const SideTest&) = delete;
+  std::optional<WindingNumber> winding;
+  SideFunction side;
+};
+
+// Sets `test` up for `offset`; throws OptionError where the input has no inside (point clouds).
+void make_side_test(WallOffset offset, const PlacedSurface& placed, double h, SideTest& test);
+
+// Probes across the shell's wall (mm) at up to 256 band voxels well inside the solid (phi nearer its
+// minimum than the pore level, so away from pore rims, where a probe would graze the rim's wall),
+// spread by band order.
+std::vector<WallProbe> wall_probes(const PlacedSurface& placed, const NarrowBand& band,
+                                   std::span<const double> phi, double iso, double wall_mm, WallOffset offset,
+                                   const SideFunction& side);
+
+}  // namespace poreshell

@@ -1,0 +1,136 @@
+#include "solver/solve.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+
+#include "core/error.hpp"
+#include "core/heap.hpp"
+#include "pattern/solid_zones.hpp"
+#include "solver/energy.hpp"
+#include "solver/fast_solver.hpp"
+#include "solver/initial_condition.hpp"
+#include "solver/reference_solver.hpp"
+
+namespace poreshell {
+namespace {
+
+// The solve's share done, for progress: how far e_c has come down from its first value towards the
+// tolerance (in log scale), or the share of the step budget used, whichever is further.
+double solve_fraction(double first_ec, double ec, double tolerance, int step, int max_steps) {
+  double by_ec = 0.0;
+  if (first_ec > tolerance && ec > 0.0)
+    by_ec = std::clamp(std::log(first_ec / ec) / std::log(first_ec / tolerance), 0.0, 1.0);
+  return std::max(by_ec, static_cast<double>(step) / max_steps);
+}
+
+}  // namespace
+
+void choose_model(const Options& c, const std::optional<PatternPlan>& plan, double mm_per_grid, double h,
+                  ModelParameters& model, double& dt) {
+  if (!plan) {
+    model = ModelParameters{c.alpha, epsilon_m(c.epsilon_m, h), c.phi_bar};
+    dt = c.dt_h * h;
+    return;
+  }
+  const HoleCalibration& cal = hole_calibration();
+  const double eps = plan->epsilon / mm_per_grid;
+  model = ModelParameters{cal.kappa / (eps * eps), eps, plan->phi_bar};
+  dt = cal.dt_per_epsilon_squared * eps * eps;
+}
+
+SolveResult solve_pattern(const Options& c, const std::optional<PatternPlan>& plan,
+                          const PlacedSurface& placed, const Grid& grid, const NarrowBand& band,
+                          const SolidZones& zones, RunMonitor& monitor) {
+  SolveResult result;
+  choose_model(c, plan, placed.mm_per_grid(), grid.h(), result.model, result.dt);
+  // The initial state on a band: noise about phi_bar, solid zones (rims along open boundaries, keep-out
+  // spheres and masks) solid and held there by a local mean concentration. Without noise: the mean
+  // field alone, for a band that starts from a carried pattern.
+  const auto level_start = [&](const NarrowBand& b, bool noise) {
+    LevelStart s;
+    const std::vector<double> weight = zones ? zones(b, result.model.epsilon) : std::vector<double>{};
+    if (!weight.empty()) s.mean_field = mean_concentration_field(weight, result.model.phi_bar);
+    if (!noise) return s;
+    s.phi = random_initial_condition(b, result.model.phi_bar, c.initial_amplitude, c.seed);
+    for (std::size_t v = 0; v < weight.size(); ++v) s.phi[v] = (1.0 - weight[v]) * s.phi[v] - weight[v];
+    return s;
+  };
+  RunOptions run_options;
+  run_options.max_steps = c.max_steps;
+  run_options.tolerance = c.tolerance;
+  run_options.energy_every = c.energy_every;
+  // Separated phases span about [-1, 1]; the decayed noise of the quiet phase spans far less.
+  if (uniform_state_unstable(result.model.alpha, result.model.epsilon, result.model.phi_bar))
+    run_options.min_spread = 1.0;
+  double first_ec = 0.0;
+  const auto report_step = [&](const StepProgress& p) {
+    if (p.step == 1) first_ec = p.ec;
+    char energy[48] = "";
+    if (!std::isnan(p.energy)) std::snprintf(energy, sizeof energy, "  energy %.6e", p.energy);
+    char line[192];
+    std::snprintf(line, sizeof line, "%sstep %5d  e_c %.3e%s  inner %lld iterations%s",
+                  p.coarse ? "coarse " : "", p.step, p.ec, energy,
+                  static_cast<long long>(p.inner.inner_iterations),
+                  p.inner.converged ? "" : " (not converged)");
+    // Every step is reported (a step takes milliseconds to seconds); the front end chooses what to show.
+    monitor.advance(solve_fraction(first_ec, p.ec, c.tolerance, p.step, c.max_steps), line, p.step, true);
+  };
+  run_options.on_step = report_step;
+  const bool fast = c.solver == SolverKind::fast;
+  const std::optional<Grid> coarse_grid =
+      fast && c.coarse_start ? pattern_grid(*placed.surface, grid.h(), result.model.epsilon) : std::nullopt;
+  LevelStart fine_start = level_start(band, !coarse_grid);
+  if (coarse_grid) {
+    CoarseStartOptions coarse{[&](const NarrowBand& b) { return level_start(b, true); }, run_options, {}};
+    coarse.fast.tolerance = c.fast_tolerance;
+    coarse.fast.min_stabilisation = c.min_stabilisation;
+    coarse.run.energy_every = 0;
+    coarse.run.on_step = [&](const StepProgress& p) {
+      StepProgress tagged = p;
+      tagged.coarse = true;
+      report_step(tagged);
+    };
+    result.coarse_start.emplace();
+    fine_start.phi = coarse_start(*placed.surface, *coarse_grid, band, result.model, result.dt, coarse,
+                                  *result.coarse_start);
+    release_free_memory();
+  }
+  std::vector<double>& phi = fine_start.phi;
+  std::unique_ptr<TimeStepper> solver;
+  if (!fast) {
+    InnerOptions inner;
+    inner.method = c.inner;
+    inner.tolerance = c.inner_tolerance;
+    solver = std::make_unique<ReferenceSolver>(band, result.model, result.dt, inner);
+    result.inner_iteration = to_string(c.inner);
+  } else {
+    FastOptions options;
+    options.tolerance = c.fast_tolerance;
+    options.min_stabilisation = c.min_stabilisation;
+    auto solver_fast = std::make_unique<FastSolver>(band, result.model, result.dt, options);
+    if (!fine_start.mean_field.empty()) solver_fast->set_mean_field(std::move(fine_start.mean_field));
+    result.solver_bytes = solver_fast->memory_bytes();
+    solver = std::move(solver_fast);
+    result.inner_iteration = "multigrid";
+  }
+  monitor.check();
+  result.solver_name = solver->name();
+  // The energy's Poisson factorisation costs about 6 s at 73k band voxels and 70 s / 2 GB at 290k:
+  // energy_every 0 skips it for large runs.
+  std::optional<EnergyFunctional> energy;
+  if (c.energy_every > 0) energy.emplace(band, result.model);
+  result.run = run_to_steady_state(*solver, phi, energy ? &*energy : nullptr, run_options);
+  // The solver's hierarchy and the energy's factorisation are done with: free them before meshing,
+  // the stage with the largest footprint.
+  solver.reset();
+  energy.reset();
+  release_free_memory();
+  if (!std::isfinite(result.run.final_ec))
+    throw Error(ErrorCode::internal, "the solver diverged (non-finite values); please report this as a bug");
+  result.phi = std::move(phi);
+  return result;
+}
+
+}  // namespace poreshell

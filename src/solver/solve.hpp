@@ -1,0 +1,44 @@
+#pragma once
+// The solve stage: the model on this grid (the paper's parameters or the hole map's), the initial
+// state (noise, or the coarse start's carried pattern), and the run to the steady state.
+
+#include <cstddef>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "band/band.hpp"
+#include "core/run_monitor.hpp"
+#include "input/placement.hpp"
+#include "pattern/hole_map.hpp"
+#include "poreshell/options.hpp"
+#include "solver/coarse_start.hpp"
+#include "solver/model.hpp"
+#include "solver/time_stepping.hpp"
+
+namespace poreshell {
+
+struct SolveResult {
+  ModelParameters model;
+  double dt = 0.0;
+  std::string solver_name, inner_iteration;
+  RunResult run;                            // on the given grid
+  std::optional<CoarseLevel> coarse_start;  // the run on the pattern's grid before it, if any
+  std::size_t solver_bytes = 0;             // the solver's own arrays
+  std::vector<double> phi;                  // on the band, at the end
+};
+
+// Per band voxel how solid the wall must stay (pattern/solid_zones.hpp), for a band and epsilon.
+using SolidZones = std::function<std::vector<double>(const NarrowBand&, double epsilon)>;
+
+// The model for this grid: the hole map's (epsilon from the spacing, dt from epsilon^2) when `plan` is
+// set, else the paper's (epsilon_m from h, dt = K h).
+void choose_model(const Options& options, const std::optional<PatternPlan>& plan, double mm_per_grid,
+                  double h, ModelParameters& model, double& dt);
+
+SolveResult solve_pattern(const Options& options, const std::optional<PatternPlan>& plan,
+                          const PlacedSurface& placed, const Grid& grid, const NarrowBand& band,
+                          const SolidZones& zones, RunMonitor& monitor);
+
+}  // namespace poreshell
