@@ -1,7 +1,9 @@
 #include "input/placement.hpp"
 
+#include <fmt/format.h>
 #include <unistd.h>
 
+#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -18,6 +20,9 @@
 
 namespace poreshell {
 namespace {
+
+// The model sizes poreshell accepts, in mm: a micrometre to a kilometre.
+constexpr double kSmallestModelMm = 1e-3, kLargestModelMm = 1e6;
 
 // Peak bytes of a whole run per band voxel, measured over the bunny scaling series (docs/benchmarks.md:
 // 1.1-1.5 kB, the shell and its mesh included).
@@ -66,7 +71,18 @@ void fit_to_unit_grid(std::vector<Vec3>& vertices, const PipelineConfig& c, cons
     box.max = box.max.cwiseMax(v);
   }
   const double longest = (box.max - box.min).maxCoeff();
-  if (!(longest > 0.0)) throw InputError(what + " has zero size");
+  if (!(longest > 0.0))
+    throw InputError(what +
+                     " has zero size: all its points are at one place; give points that sample a surface");
+  // Sizes far outside anything printable are a wrong --units or a corrupt file; caught here, before the
+  // output's coordinates overflow the STL's floats or collapse to zero.
+  const double longest_mm = longest * millimetres_per_unit(c.units);
+  if (!(longest_mm <= kLargestModelMm) || !(longest_mm >= kSmallestModelMm))
+    throw InputError(
+        fmt::format("{} is {:.3g} mm across ({} of the input's coordinates), {} than poreshell "
+                    "makes ({:g} mm to {:g} mm); check --units (m, cm, mm, inch) or rescale the model",
+                    what, longest_mm, longest, longest_mm > kLargestModelMm ? "larger" : "smaller",
+                    kSmallestModelMm, kLargestModelMm));
   placed.resolution = resolution_for(c, longest, kMeshPaddingCells);
   const double h = 1.0 / (placed.resolution - 1);
   const double scale = (1.0 - 2 * kMeshPaddingCells * h) / longest;
@@ -75,6 +91,22 @@ void fit_to_unit_grid(std::vector<Vec3>& vertices, const PipelineConfig& c, cons
   for (Vec3& v : vertices) v = (v - placed.input_center) * scale + Vec3::Constant(0.5);
   const Vec3 half = 0.5 * scale * (box.max - box.min) + Vec3::Constant(kMeshPaddingCells * h);
   placed.domain = Box{Vec3::Constant(0.5) - half, Vec3::Constant(0.5) + half};
+}
+
+// Points on one line sample no surface: the variance across the line is round-off (10^-12) next to
+// the variance along it.
+void check_not_collinear(const std::vector<Vec3>& points, const std::string& what) {
+  if (points.size() < 2) return;
+  Vec3 mean = Vec3::Zero();
+  for (const Vec3& p : points) mean += p;
+  mean /= static_cast<double>(points.size());
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  for (const Vec3& p : points) covariance += (p - mean) * (p - mean).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance, Eigen::EigenvaluesOnly);
+  const Vec3 spread = solver.eigenvalues();  // ascending
+  if (spread[2] > 0.0 && spread[1] <= 1e-12 * spread[2])
+    throw InputError(what +
+                     " lies on a line: its points sample no surface; give points spread over the surface");
 }
 
 // A point cloud: splats (direct) or the paper's densify-and-segment route, on the grid it will get.
@@ -87,6 +119,7 @@ void place_points(const PipelineConfig& c, PlacedSurface& placed) {
   placed.input.point_route = c.point_route;
   placed.input.units = c.units;
   placed.input.millimetres_per_unit = millimetres_per_unit(c.units);
+  check_not_collinear(cloud.points, "the point cloud '" + c.points.string() + "'");
   fit_to_unit_grid(cloud.points, c, "the point cloud '" + c.points.string() + "'", placed);
   if (c.point_route == "direct") {
     placed.surface = std::make_unique<SplatSurface>(std::move(cloud.points));
