@@ -1,5 +1,8 @@
 #include "input/placement.hpp"
 
+#include <fmt/format.h>
+
+#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <string>
 #include <type_traits>
@@ -14,6 +17,9 @@
 
 namespace poreshell {
 namespace {
+
+// The model sizes poreshell accepts, in mm: a micrometre to a kilometre.
+constexpr double kSmallestModelMm = 1e-3, kLargestModelMm = 1e6;
 
 // Grid points along the longest side: `resolution`, or from `voxel_size` over the longest extent.
 int resolution_for(const Options& c, double mm_per_unit, double longest_extent, int padding_cells) {
@@ -53,7 +59,17 @@ void fit_to_unit_grid(std::vector<Vec3>& vertices, const Options& c, const std::
     box.max = box.max.cwiseMax(v);
   }
   const double longest = (box.max - box.min).maxCoeff();
-  if (!(longest > 0.0)) throw InputError(what + " has zero size");
+  if (!(longest > 0.0))
+    throw InputError(what +
+                     " has zero size: all its points are at one place; give points that sample a surface");
+  // Sizes far outside anything printable are a wrong unit or a corrupt file; caught here, before the
+  // output's coordinates overflow the STL's floats or collapse to zero.
+  const double longest_mm = longest * placed.input.millimetres_per_unit;
+  if (!(longest_mm <= kLargestModelMm) || !(longest_mm >= kSmallestModelMm))
+    throw InputError(fmt::format("{} is {:.3g} mm across ({} of the input's coordinates), {} than poreshell "
+                                 "makes ({:g} mm to {:g} mm); check `units` (m, cm, mm, inch) or rescale the model",
+                                 what, longest_mm, longest, longest_mm > kLargestModelMm ? "larger" : "smaller",
+                                 kSmallestModelMm, kLargestModelMm));
   placed.resolution = resolution_for(c, placed.input.millimetres_per_unit, longest, kMeshPaddingCells);
   const double h = 1.0 / (placed.resolution - 1);
   const double scale = (1.0 - 2 * kMeshPaddingCells * h) / longest;
@@ -62,6 +78,22 @@ void fit_to_unit_grid(std::vector<Vec3>& vertices, const Options& c, const std::
   for (Vec3& v : vertices) v = (v - placed.input_center) * scale + Vec3::Constant(0.5);
   const Vec3 half = 0.5 * scale * (box.max - box.min) + Vec3::Constant(kMeshPaddingCells * h);
   placed.domain = Box{Vec3::Constant(0.5) - half, Vec3::Constant(0.5) + half};
+}
+
+// Points on one line sample no surface: the variance across the line is round-off (10^-12) next to
+// the variance along it.
+void check_not_collinear(const std::vector<Vec3>& points, const std::string& what) {
+  if (points.size() < 2) return;
+  Vec3 mean = Vec3::Zero();
+  for (const Vec3& p : points) mean += p;
+  mean /= static_cast<double>(points.size());
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  for (const Vec3& p : points) covariance += (p - mean) * (p - mean).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance, Eigen::EigenvaluesOnly);
+  const Vec3 spread = solver.eigenvalues();  // ascending
+  if (spread[2] > 0.0 && spread[1] <= 1e-12 * spread[2])
+    throw InputError(what +
+                     " lies on a line: its points sample no surface; give points spread over the surface");
 }
 
 // A point cloud: splats (direct) or the paper's densify-and-segment route, on the grid it will get.
@@ -86,6 +118,7 @@ void place_points(const PointsInput& in, const Options& c, PlacedSurface& placed
   placed.input.point_route = c.point_route == PointRoute::direct ? "direct" : "paper";
   placed.input.units = to_string(in.unit);
   placed.input.millimetres_per_unit = millimetres_per(in.unit);
+  check_not_collinear(points, "the point cloud '" + in.name + "'");
   fit_to_unit_grid(points, c, "the point cloud '" + in.name + "'", placed);
   if (c.point_route == PointRoute::direct) {
     placed.surface = std::make_unique<SplatSurface>(std::move(points));

@@ -4,9 +4,9 @@
 // points of grid voxels, so the value at p is the barycentric interpolation of the vertex values at
 // the closest point of p on the file's own faces.
 //
-// Assimp drops custom PLY properties, so the file is read here (ascii and both binary formats, any
-// scalar type; polygons become fans). A file without faces (a painted point cloud) is allowed: the
-// value at p is then that of the nearest vertex.
+// Assimp drops custom PLY properties, so the file is read by io/ply_reader (ascii and both binary
+// formats, any scalar type; polygons become fans). A file without faces (a painted point cloud) is allowed:
+// the value at p is then that of the nearest vertex.
 
 #include <array>
 #include <cstdint>
@@ -14,6 +14,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -37,6 +38,9 @@ class VertexScalarField {
   // missing, malformed or truncated file, a missing property (naming those the file has), NaN/inf
   // values and face indices out of range.
   static VertexScalarField read_ply(const std::filesystem::path& path, const std::string& property);
+  // The same from the file's bytes (`name` in messages): what the fuzzer drives.
+  static VertexScalarField from_ply_bytes(std::string_view bytes, const std::string& name,
+                                          const std::string& property);
   // Names of the scalar vertex properties of a PLY file (x, y, z included), for choosing and messages.
   static std::vector<std::string> scalar_vertex_properties(const std::filesystem::path& path);
 

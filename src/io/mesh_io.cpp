@@ -1,26 +1,27 @@
 #include "io/mesh_io.hpp"
 
-// Assimp reads the common exchange formats; 3MF goes through lib3mf because that is the format's
-// reference implementation (components, build-item transforms). Both only fill a TriangleMesh; all
-// checks and clean-up happen afterwards in one place, clean_triangle_mesh.
+// STL, OBJ, OFF and PLY are read by poreshell's own small readers (mesh_readers.hpp, ply_reader.hpp):
+// Assimp's importers aborted on ai_assert, crashed or ran for seconds on small crafted files
+// (docs/reliability.md). 3MF goes through lib3mf, the format's reference implementation (components,
+// build-item transforms). All only fill a TriangleMesh; checks and clean-up happen afterwards in one
+// place, clean_triangle_mesh.
 
 #include <fmt/format.h>
 
-#include <assimp/postprocess.h>
-#include <assimp/scene.h>
 #include <Eigen/Geometry>
 #include <algorithm>
-#include <assimp/Importer.hpp>
-#include <cctype>
 #include <cmath>
 #include <memory>
-#include <numeric>
 #include <string>
 #include <tuple>
 
 #include "core/error.hpp"
+#include "io/file_bytes.hpp"
 #include "io/file_format.hpp"
 #include "io/lib3mf_support.hpp"
+#include "io/mesh_readers.hpp"
+#include "io/ply_reader.hpp"
+#include "io/text_scan.hpp"
 
 namespace poreshell {
 namespace {
@@ -37,44 +38,10 @@ void check_index_range(std::size_t vertices) {
     throw InputError("the mesh has more than 2^31 vertices: split or decimate it");
 }
 
-// Walks the node tree so that meshes placed by node transforms end up where the file puts them.
-void append_assimp_node(const aiScene& scene, const aiNode& node, const aiMatrix4x4& parent,
-                        TriangleMesh& out) {
-  const aiMatrix4x4 transform = parent * node.mTransformation;
-  for (unsigned m = 0; m < node.mNumMeshes; ++m) {
-    const aiMesh& mesh = *scene.mMeshes[node.mMeshes[m]];
-    const std::size_t base = out.vertices.size();
-    check_index_range(base + mesh.mNumVertices);
-    for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
-      const aiVector3D p = transform * mesh.mVertices[v];
-      out.vertices.emplace_back(p.x, p.y, p.z);
-    }
-    for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
-      const aiFace& face = mesh.mFaces[f];
-      if (face.mNumIndices != 3) continue;  // points and lines carry no surface
-      append_triangle(out, base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]);
-    }
-  }
-  for (unsigned c = 0; c < node.mNumChildren; ++c)
-    append_assimp_node(scene, *node.mChildren[c], transform, out);
-}
-
-TriangleMesh read_with_assimp(const std::filesystem::path& path) {
-  Assimp::Importer importer;
-  // No aiProcess_JoinIdenticalVertices: its spatial sort merges a NaN vertex into a neighbour, which
-  // would hide a corrupt file. clean_triangle_mesh welds exactly afterwards instead.
-  const aiScene* scene = importer.ReadFile(path.string(), aiProcess_Triangulate);
-  if (scene == nullptr || scene->mRootNode == nullptr)
-    throw InputError(fmt::format("cannot read mesh file '{}': {}; check that it is a complete, valid {} file",
-                                 path.string(), importer.GetErrorString(), lowercase_extension(path)));
-  TriangleMesh out;
-  append_assimp_node(*scene, *scene->mRootNode, aiMatrix4x4(), out);
-  return out;
-}
-
 class Lib3mfReader {
  public:
-  explicit Lib3mfReader(const std::filesystem::path& path) : path_(path) {}
+  Lib3mfReader(std::string_view bytes, std::string name)
+      : bytes_(bytes.begin(), bytes.end()), path_(std::move(name)) {}
 
   TriangleMesh read() {
     NMR::PLib3MFModel* model = nullptr;
@@ -83,7 +50,7 @@ class Lib3mfReader {
     NMR::PLib3MFModelReader* reader = nullptr;
     check(NMR::lib3mf_model_queryreader(model, "3mf", &reader), model);
     const Lib3mfHandle reader_handle(reader);
-    check(NMR::lib3mf_reader_readfromfileutf8(reader, path_.string().c_str()), reader);
+    check(NMR::lib3mf_reader_readfrombuffer(reader, bytes_.data(), bytes_.size()), reader);
 
     NMR::PLib3MFModelBuildItemIterator* items = nullptr;
     check(NMR::lib3mf_model_getbuilditems(model, &items), model);
@@ -128,8 +95,7 @@ class Lib3mfReader {
 
   void append_object(NMR::PLib3MFModelObjectResource* object, const Eigen::Affine3d& transform,
                      TriangleMesh& out, int depth) {
-    if (depth > 32)
-      throw InputError(fmt::format("3MF file '{}': components nest too deeply", path_.string()));
+    if (depth > 32) throw InputError(fmt::format("3MF file '{}': components nest too deeply", path_));
     BOOL is_mesh = 0, is_components = 0;
     check(NMR::lib3mf_object_ismeshobject(object, &is_mesh), object);
     check(NMR::lib3mf_object_iscomponentsobject(object, &is_components), object);
@@ -169,13 +135,25 @@ class Lib3mfReader {
   void check(LIB3MFRESULT result, NMR::PLib3MFBase* handle) const {
     if (result == LIB3MF_OK) return;
     const std::string message = lib3mf_error_text(result, handle);
-    throw InputError(
-        fmt::format("cannot read mesh file '{}': {}; check that it is a complete, valid .3mf file",
-                    path_.string(), message));
+    throw InputError(fmt::format(
+        "cannot read mesh file '{}': {}; check that it is a complete, valid .3mf file", path_, message));
   }
 
-  std::filesystem::path path_;
+  std::vector<BYTE> bytes_;  // a copy: lib3mf's buffer reader takes a non-const pointer
+  std::string path_;
 };
+
+void check_extension(const std::string& extension, const std::string& name) {
+  if (extension != ".stl" && extension != ".obj" && extension != ".ply" && extension != ".off" &&
+      extension != ".3mf")
+    throw InputError(fmt::format("mesh file '{}' has the unsupported extension '{}': use one of {}", name,
+                                 text::quote(extension), kSupported));
+}
+
+TriangleMesh from_ply(std::string_view bytes, const std::string& name) {
+  ply::Data data = ply::read(bytes, name);
+  return TriangleMesh{std::move(data.vertices), std::move(data.triangles)};
+}
 
 bool zero_area(const Vec3& a, const Vec3& b, const Vec3& c) {
   const double longest2 = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
@@ -235,8 +213,11 @@ MeshInputStats clean_triangle_mesh(TriangleMesh& mesh) {
     triangles.push_back(r);
   }
   if (triangles.empty())
-    throw InputError(fmt::format("the mesh has no usable triangles ({} degenerate ones dropped)",
-                                 stats.dropped_degenerate));
+    throw InputError(
+        fmt::format("the mesh has no usable triangles: all {} repeat a vertex or have zero area (collinear "
+                    "corners); give a "
+                    "mesh whose faces enclose some area",
+                    stats.dropped_degenerate));
   // Drop vertices that only dropped triangles used.
   std::vector<std::int32_t> compact(vertices.size(), -1);
   mesh.vertices.clear();
@@ -255,27 +236,39 @@ MeshInputStats clean_triangle_mesh(TriangleMesh& mesh) {
   return stats;
 }
 
-TriangleMesh read_triangle_mesh(const std::filesystem::path& path, MeshInputStats* stats) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec))
-    throw InputError(fmt::format("mesh file '{}' does not exist or is not a regular file", path.string()));
-  const std::string ext = lowercase_extension(path);
-  if (ext != ".stl" && ext != ".obj" && ext != ".ply" && ext != ".off" && ext != ".3mf")
-    throw InputError(fmt::format("mesh file '{}' has the unsupported extension '{}': use one of {}",
-                                 path.string(), ext, kSupported));
-  if (std::filesystem::file_size(path, ec) == 0 && !ec)
-    throw InputError(fmt::format("mesh file '{}' is empty (0 bytes)", path.string()));
-
-  TriangleMesh mesh = ext == ".3mf" ? Lib3mfReader(path).read() : read_with_assimp(path);
+TriangleMesh read_triangle_mesh_bytes(std::string_view bytes, const std::string& extension,
+                                      const std::string& name, MeshInputStats* stats) {
+  check_extension(extension, name);
+  if (bytes.empty())
+    throw InputError(
+        fmt::format("mesh file '{}' is empty (0 bytes): give a complete {} file", name, extension));
+  TriangleMesh mesh;
+  if (extension == ".stl")
+    mesh = read_stl_bytes(bytes, name);
+  else if (extension == ".obj")
+    mesh = read_obj_bytes(bytes, name);
+  else if (extension == ".off")
+    mesh = read_off_bytes(bytes, name);
+  else if (extension == ".ply")
+    mesh = from_ply(bytes, name);
+  else
+    mesh = Lib3mfReader(bytes, name).read();
   if (mesh.triangles.empty())
-    throw InputError(fmt::format("mesh file '{}' contains no triangles", path.string()));
+    throw InputError(fmt::format(
+        "mesh file '{}' contains no triangles: give a surface mesh (a point cloud goes to --points)", name));
   try {
     const MeshInputStats s = clean_triangle_mesh(mesh);
     if (stats != nullptr) *stats = s;
   } catch (const InputError& e) {
-    throw InputError(fmt::format("mesh file '{}': {}", path.string(), e.what()));
+    throw InputError(fmt::format("mesh file '{}': {}", name, e.what()));
   }
   return mesh;
+}
+
+TriangleMesh read_triangle_mesh(const std::filesystem::path& path, MeshInputStats* stats) {
+  const std::string ext = lowercase_extension(path);
+  check_extension(ext, path.string());  // before a large file of an unknown format is read
+  return read_triangle_mesh_bytes(read_file_bytes(path, "mesh"), ext, path.string(), stats);
 }
 
 }  // namespace poreshell

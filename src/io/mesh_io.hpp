@@ -1,10 +1,12 @@
 #pragma once
-// Reading triangle meshes from files (STL, OBJ, PLY, OFF through Assimp; 3MF through lib3mf) and the
+// Reading triangle meshes from files (STL, OBJ, PLY, OFF by poreshell's readers; 3MF through lib3mf) and the
 // clean-up every imported mesh gets: exact welding, unused vertices removed, degenerate triangles
 // dropped. Scans with holes and open surfaces are accepted as they are.
 
 #include <cstdint>
 #include <filesystem>
+#include <string>
+#include <string_view>
 
 #include "geometry/mesh.hpp"
 
@@ -23,5 +25,10 @@ MeshInputStats clean_triangle_mesh(TriangleMesh& mesh);
 
 // Reads and cleans a mesh; the extension picks the format. Throws InputError with the reason.
 TriangleMesh read_triangle_mesh(const std::filesystem::path& path, MeshInputStats* stats = nullptr);
+
+// The same from a file's bytes: `extension` (".stl", ...) picks the format, `name` is the file's name in
+// messages.
+TriangleMesh read_triangle_mesh_bytes(std::string_view bytes, const std::string& extension,
+                                      const std::string& name, MeshInputStats* stats = nullptr);
 
 }  // namespace poreshell

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "core/error.hpp"
+#include "io/text_scan.hpp"
 
 namespace poreshell::ply {
 namespace {
@@ -36,18 +37,17 @@ std::optional<ScalarType> parse_scalar_type(const std::string& name) {
 }
 
 // Throws for a malformed header line, with the line number: enough to find it in a text editor.
-[[noreturn]] void bad_line(const std::filesystem::path& path, std::size_t number, const std::string& what) {
-  throw InputError(
-      fmt::format("PLY file '{}', header line {}: {}; the header is malformed, re-export the file",
-                  path.string(), number, what));
+[[noreturn]] void bad_line(const std::string& path, std::size_t number, const std::string& what) {
+  throw InputError(fmt::format(
+      "PLY file '{}', header line {}: {}; the header is malformed, re-export the file", path, number, what));
 }
 
-ScalarType scalar_type(const std::string& name, const std::filesystem::path& path, std::size_t number) {
+ScalarType scalar_type(const std::string& name, const std::string& path, std::size_t number) {
   if (const auto type = parse_scalar_type(name)) return *type;
-  bad_line(path, number, fmt::format("unknown property type '{}'", name));
+  bad_line(path, number, fmt::format("unknown property type '{}'", text::quote(name)));
 }
 
-Property parse_property(std::istringstream& words, const std::filesystem::path& path, std::size_t number) {
+Property parse_property(std::istringstream& words, const std::string& path, std::size_t number) {
   Property property;
   std::string type;
   words >> type;
@@ -64,7 +64,7 @@ Property parse_property(std::istringstream& words, const std::filesystem::path& 
   return property;
 }
 
-Element parse_element(std::istringstream& words, const std::filesystem::path& path, std::size_t number) {
+Element parse_element(std::istringstream& words, const std::string& path, std::size_t number) {
   Element element;
   long long count = -1;
   if (!(words >> element.name >> count) || count < 0)
@@ -72,19 +72,21 @@ Element parse_element(std::istringstream& words, const std::filesystem::path& pa
   // Indices into the rows are 32-bit throughout poreshell.
   if (count > INT32_MAX)
     bad_line(path, number,
-             fmt::format("{} rows of '{}' are more than poreshell reads (2^31 - 1)", count, element.name));
+             fmt::format("{} rows of '{}' are more than poreshell reads (2^31 - 1)", count,
+                         text::quote(element.name)));
   element.count = static_cast<std::size_t>(count);
   return element;
 }
 
-Format parse_format(std::istringstream& words, const std::filesystem::path& path, std::size_t number) {
+Format parse_format(std::istringstream& words, const std::string& path, std::size_t number) {
   std::string format;
   words >> format;
   if (format == "ascii") return Format::ascii;
   if (format == "binary_little_endian") return Format::binary_little_endian;
   if (format == "binary_big_endian") return Format::binary_big_endian;
   bad_line(path, number,
-           fmt::format("unknown format '{}' (ascii, binary_little_endian or binary_big_endian)", format));
+           fmt::format("unknown format '{}' (ascii, binary_little_endian or binary_big_endian)",
+                       text::quote(format)));
 }
 
 }  // namespace
@@ -128,12 +130,15 @@ const Element* Header::find(const std::string& element) const {
   return nullptr;
 }
 
-Header read_header(std::istream& in, const std::filesystem::path& path) {
+Header read_header(std::string_view bytes, const std::string& path) {
   Header header;
   std::string line;
   const auto next_line = [&] {
-    if (!std::getline(in, line)) return false;
-    header.bytes += line.size() + 1;
+    if (header.bytes >= bytes.size()) return false;
+    const std::size_t end = bytes.find('\n', header.bytes);
+    const std::size_t stop = end == std::string_view::npos ? bytes.size() : end;
+    line.assign(bytes.substr(header.bytes, stop - header.bytes));
+    header.bytes = end == std::string_view::npos ? bytes.size() : end + 1;
     if (!line.empty() && line.back() == '\r') line.pop_back();
     return true;
   };
@@ -141,7 +146,7 @@ Header read_header(std::istream& in, const std::filesystem::path& path) {
     throw InputError(fmt::format(
         "'{}' is not a PLY file (its first line is not 'ply'): give a PLY file, as Blender or MeshLab "
         "export it",
-        path.string()));
+        path));
   bool has_format = false;
   for (std::size_t number = 2; next_line(); ++number) {
     std::istringstream words(line);
@@ -161,13 +166,13 @@ Header read_header(std::istream& in, const std::filesystem::path& path) {
       if (header.elements.empty()) bad_line(path, number, "a property before any element");
       header.elements.back().properties.push_back(parse_property(words, path, number));
     } else {
-      bad_line(path, number, fmt::format("unexpected '{}'", line.substr(0, 60)));
+      bad_line(path, number, fmt::format("unexpected '{}'", text::quote(line, 60)));
     }
   }
   throw InputError(
       fmt::format("PLY file '{}' has no 'end_header' line: the file is truncated or its header is malformed; "
                   "re-export it",
-                  path.string()));
+                  path));
 }
 
 }  // namespace poreshell::ply

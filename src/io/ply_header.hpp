@@ -1,13 +1,10 @@
 #pragma once
-// The header of a PLY file: format, elements and their properties. Shared by the readers that look
-// at PLY data themselves (point clouds check the length Assimp does not; vertex fields read the
-// custom properties Assimp drops).
+// The header of a PLY file: format, elements and their properties (the body is read by ply_reader.hpp).
 
 #include <cstdint>
-#include <filesystem>
-#include <istream>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace poreshell::ply {
@@ -44,8 +41,8 @@ struct Header {
   const Element* find(const std::string& element) const;
 };
 
-// Reads the header from the start of `in` and leaves `in` at the first byte of data. Throws InputError,
-// naming `path`, for a file that is not PLY or whose header is malformed.
-Header read_header(std::istream& in, const std::filesystem::path& path);
+// Reads the header at the start of `bytes`; `bytes` is the offset of the first byte of data. Throws
+// InputError, naming the file `name`, for a file that is not PLY or whose header is malformed.
+Header read_header(std::string_view bytes, const std::string& name);
 
 }  // namespace poreshell::ply

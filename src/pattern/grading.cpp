@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "io/text_scan.hpp"
 #include "pattern/hole_map.hpp"
 
 namespace poreshell {
@@ -32,7 +33,7 @@ double number(const std::string& text, const std::string& whole) {
     used = 0;
   }
   if (used != text.size() || !std::isfinite(value))
-    throw OptionError("grade", "`grade` '" + whole + "': '" + text + "' is not a number; " + kForms);
+    throw OptionError("grade", "`grade` '" + whole + "': '" + text::quote(text) + "' is not a number; " + kForms);
   return value;
 }
 
@@ -50,8 +51,10 @@ Vec3 point(const std::string& text, const std::string& whole) {
 
 }  // namespace
 
-GradeSpec parse_grade_spec(const std::string& text) {
-  const std::vector<std::string> p = split(text, ':');
+GradeSpec parse_grade_spec(const std::string& raw) {
+  // Messages quote the spec: control characters (a newline) would break the one-line error.
+  const std::string text = text::quote(raw, 120);
+  const std::vector<std::string> p = split(raw, ':');
   GradeSpec g;
   const std::string kind = p.empty() ? "" : p[0];
   if (kind == "axis" && p.size() == 4) {
@@ -68,8 +71,11 @@ GradeSpec parse_grade_spec(const std::string& text) {
     g.from_diameter = diameter(p[2], text);
     g.to = point(p[3], text);
     g.to_diameter = diameter(p[4], text);
-    if (!((g.to - g.from).norm() > 0.0))
-      throw OptionError("grade", "`grade` '" + text + "': the two points coincide");
+    // squaredNorm, not norm: the line's parameter divides by it, which must be neither 0 nor inf.
+    const double length2 = (g.to - g.from).squaredNorm();
+    if (!(length2 > 0.0) || !std::isfinite(length2))
+      throw OptionError("grade", "`grade` '" + text +
+                       "': the two points coincide or are too far apart; give two distinct points in mm");
   } else if (kind == "radial" && p.size() == 4) {
     g.kind = GradeSpec::Kind::radial;
     g.from = point(p[1], text);
@@ -113,8 +119,8 @@ std::function<double(const Vec3&)> graded_diameter(const GradeSpec& spec, const 
       };
     case GradeSpec::Kind::field:
       if (!field)
-        throw OptionError("grade",
-                          "`grade` field:" + spec.property + " needs a PLY mesh with that vertex property");
+        throw OptionError("grade", "`grade` field:" + text::quote(spec.property) +
+                         " needs a PLY mesh with that vertex property");
       if (!spec.mapped) return field;
       return [=](const Vec3& x) { return blend(spec.from_diameter, spec.to_diameter, field(x)); };
   }

@@ -525,7 +525,7 @@ TEST(MeshIO, ReadsEveryFormat) {
 TEST(MeshIO, BadInputsGiveDistinctClearErrors) {
   const std::vector<std::pair<fs::path, std::string>> cases{
       {write_text("empty.stl", ""), "empty"},
-      {write_text("truncated.stl", tet_binary_stl(4, 2)), "cannot read"},
+      {write_text("truncated.stl", tet_binary_stl(4, 2)), "is truncated"},
       {write_text("nan.obj", "v 0 0 0\nv 1 0 0\nv 0 1 nan\nf 1 2 3\n"), "non-finite"},
       {temp_dir() / "missing.obj", "does not exist"},
       {write_text("points.xyz", "0 0 0\n"), "unsupported extension"},

@@ -1,0 +1,334 @@
+// The bad-input table of docs/reliability.md, end to end: each row runs the program on a file the test
+// writes and checks the exit code, exactly one "poreshell: error:" line that names the problem and the
+// fix, and an output folder left empty.
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#ifndef PORESHELL_EXE
+#error "PORESHELL_EXE must name the poreshell executable (see tests/CMakeLists.txt)"
+#endif
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// A run small enough to finish at once if a row's input were accepted.
+const std::string kSmallRun = "--resolution 33 --alpha 84 --max-steps 5 --tol 1e-12 --quiet";
+
+struct Row {
+  std::string name;     // the table's row
+  std::string file;     // written in the input folder (empty: none)
+  std::string content;  // of `file`
+  std::string args;     // the input options; FILE stands for the file's path
+  int exit_code = 1;    // 2: a usage error
+  std::string problem;  // the message names the problem...
+  std::string fix;      // ...and what to do
+};
+
+std::string read_file(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+std::vector<std::string> lines(const std::string& text) {
+  std::vector<std::string> result;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);)
+    if (!line.empty()) result.push_back(line);
+  return result;
+}
+
+// For the shell; appended piece by piece, since "'" + s + "'" trips g++ 12's -Wrestrict false positive.
+std::string quoted(const fs::path& p) {
+  std::string s = "'";
+  s += p.string();
+  s += '\'';
+  return s;
+}
+
+std::string u32(std::uint32_t n) {
+  std::string s(4, '\0');
+  std::memcpy(s.data(), &n, 4);  // little-endian, as STL
+  return s;
+}
+
+std::string f32s(std::initializer_list<float> values) {
+  std::string s;
+  for (float v : values) s.append(reinterpret_cast<const char*>(&v), 4);
+  return s;
+}
+
+// A binary STL of one tetrahedron; `claimed` triangles in the header, `facets` written.
+std::string binary_stl(std::uint32_t claimed, int facets) {
+  const float v[4][3] = {{0, 0, 0}, {10, 0, 0}, {0, 10, 0}, {0, 0, 10}};
+  const int t[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  std::string s = std::string("binary") + std::string(74, ' ') + u32(claimed);
+  for (int f = 0; f < facets; ++f) {
+    s += f32s({0, 0, 0});
+    for (int c = 0; c < 3; ++c) s += f32s({v[t[f][c]][0], v[t[f][c]][1], v[t[f][c]][2]});
+    s += std::string(2, '\0');
+  }
+  return s;
+}
+
+std::string tet_obj(const std::string& scale) {
+  return "v 0 0 0\nv " + scale + " 0 0\nv 0 " + scale + " 0\nv 0 0 " + scale +
+         "\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+}
+
+const std::string kPlyHead =
+    "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+    "element face 4\nproperty list uchar int vertex_indices\nend_header\n";
+const std::string kPlyVertices = "0 0 0\n10 0 0\n0 10 0\n0 0 10\n";
+const std::string kPlyFaces = "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+
+std::string little_endian_tet_ply(const std::string& format) {
+  std::string s = "ply\nformat " + format +
+                  " 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+                  "element face 4\nproperty list uchar int vertex_indices\nend_header\n";
+  s += f32s({0, 0, 0, 10, 0, 0, 0, 10, 0, 0, 0, 10});
+  const std::int32_t t[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  for (const auto& f : t) {
+    s += '\3';
+    s.append(reinterpret_cast<const char*>(f), sizeof f);
+  }
+  return s;
+}
+
+// A ZIP archive of stored entries (enough for a 3MF package).
+std::uint32_t crc32(const std::string& data) {
+  std::uint32_t crc = 0xFFFFFFFFu;
+  for (unsigned char ch : data) {
+    crc ^= ch;
+    for (int k = 0; k < 8; ++k) crc = (crc >> 1) ^ (0xEDB88320u & (0u - (crc & 1u)));
+  }
+  return ~crc;
+}
+
+std::string zip(const std::vector<std::pair<std::string, std::string>>& entries) {
+  const auto u16 = [](unsigned n) {
+    return std::string{static_cast<char>(n & 0xFF), static_cast<char>(n >> 8)};
+  };
+  std::string local, central;
+  for (const auto& [name, data] : entries) {
+    const std::string sizes = u32(crc32(data)) + u32(static_cast<std::uint32_t>(data.size())) +
+                              u32(static_cast<std::uint32_t>(data.size()));
+    const std::uint32_t offset = static_cast<std::uint32_t>(local.size());
+    local += u32(0x04034b50) + u16(20) + u16(0) + u16(0) + u16(0) + u16(0x21) + sizes +
+             u16(static_cast<unsigned>(name.size())) + u16(0) + name + data;
+    central += u32(0x02014b50) + u16(20) + u16(20) + u16(0) + u16(0) + u16(0) + u16(0x21) + sizes +
+               u16(static_cast<unsigned>(name.size())) + u16(0) + u16(0) + u16(0) + u16(0) + u32(0) +
+               u32(offset) + name;
+  }
+  const auto n = static_cast<unsigned>(entries.size());
+  return local + central + u32(0x06054b50) + u16(0) + u16(0) + u16(n) + u16(n) +
+         u32(static_cast<std::uint32_t>(central.size())) + u32(static_cast<std::uint32_t>(local.size())) +
+         u16(0);
+}
+
+std::string package_3mf(const std::string& resources, const std::string& build) {
+  const std::string types =
+      "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<Types "
+      "xmlns=\"http://schemas.openxmlformats.org/package/2006/content-types\"><Default Extension=\"rels\" "
+      "ContentType=\"application/vnd.openxmlformats-package.relationships+xml\"/><Default "
+      "Extension=\"model\" "
+      "ContentType=\"application/vnd.ms-package.3dmanufacturing-3dmodel+xml\"/></Types>\n";
+  const std::string rels =
+      "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<Relationships "
+      "xmlns=\"http://schemas.openxmlformats.org/package/2006/relationships\"><Relationship "
+      "Target=\"/3D/3dmodel.model\" Id=\"rel0\" "
+      "Type=\"http://schemas.microsoft.com/3dmanufacturing/2013/01/3dmodel\"/></Relationships>\n";
+  const std::string model =
+      "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<model unit=\"millimeter\" xml:lang=\"en-US\" "
+      "xmlns=\"http://schemas.microsoft.com/3dmanufacturing/core/2015/02\"><resources>" +
+      resources + "</resources><build>" + build + "</build></model>\n";
+  return zip({{"[Content_Types].xml", types}, {"_rels/.rels", rels}, {"3D/3dmodel.model", model}});
+}
+
+std::string repeated(const std::string& line, std::size_t n) {
+  std::string s;
+  s.reserve(line.size() * n);
+  for (std::size_t i = 0; i < n; ++i) s += line;
+  return s;
+}
+
+std::vector<Row> rows() {
+  const std::string ascii_tet =
+      "solid t\n"
+      "facet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 0 10 0\nvertex 10 0 0\nendloop\nendfacet\n"
+      "facet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 10 0 0\nvertex 0 0 inf\nendloop\nendfacet\n"
+      "endsolid t\n";
+  std::vector<Row> r = {
+      {"missing file", "", "", "--mesh nowhere.stl", 1, "does not exist", "check the path"},
+      {"a folder", "", "", "--mesh FOLDER", 1, "is a folder", "give the path of a file"},
+      {"unknown extension in (mesh)", "m.vtk", "x", "--mesh FILE", 1, "unsupported extension '.vtk'",
+       "use one of"},
+      {"unknown extension in (points)", "p.las", "x", "--points FILE", 1, "unknown point file extension",
+       "use .xyz"},
+      {"unknown extension out", "m.obj", tet_obj("10"), "--mesh FILE -o out.vtk", 1, ".vtk", ".stl"},
+      {"empty binary STL", "e.stl", "", "--mesh FILE", 1, "is empty (0 bytes)", "give a complete .stl"},
+      {"empty OBJ", "e.obj", "", "--mesh FILE", 1, "is empty (0 bytes)", "give a complete .obj"},
+      {"empty PLY mesh", "e.ply", "", "--mesh FILE", 1, "is empty (0 bytes)", "give a complete .ply"},
+      {"empty OFF", "e.off", "", "--mesh FILE", 1, "is empty (0 bytes)", "give a complete .off"},
+      {"empty 3MF", "e.3mf", "", "--mesh FILE", 1, "is empty (0 bytes)", "give a complete .3mf"},
+      {"empty XYZ", "e.xyz", "", "--points FILE", 1, "is empty", "give a file"},
+      {"empty PLY points", "e.ply", "", "--points FILE", 1, "is empty", "give a file"},
+      {"truncated binary STL", "t.stl", binary_stl(4, 2), "--mesh FILE", 1, "is truncated", "re-export"},
+      {"STL claiming 1e9 triangles", "c.stl", binary_stl(1000000000, 1), "--mesh FILE", 1,
+       "declares 1000000000 triangles", "re-export"},
+      {"garbage text STL", "g.stl", "hello, this is not a mesh\n", "--mesh FILE", 1, "is not an STL file",
+       "re-export it as STL"},
+      {"garbage ASCII STL body", "g.stl", "solid x\nhello world\n", "--mesh FILE", 1,
+       "line 2: unexpected 'hello'", "re-export"},
+      {"garbage text OBJ", "g.obj", "hello world\nthis is not a mesh\n", "--mesh FILE", 1,
+       "contains no triangles", "give a surface mesh"},
+      {"garbage text OFF", "g.off", "hello world\n", "--mesh FILE", 1, "expected the vertex count",
+       "re-export"},
+      {"garbage text PLY", "g.ply", "hello world\n", "--mesh FILE", 1, "is not a PLY file",
+       "give a PLY file"},
+      {"garbage text XYZ", "g.xyz", "hello world\n", "--points FILE", 1, "line 1: expected three numbers",
+       "one point a line"},
+      {"NaN coordinate (OBJ)", "n.obj", tet_obj("nan"), "--mesh FILE", 1, "non-finite coordinate",
+       "re-export the mesh"},
+      {"Inf coordinate (ASCII STL)", "i.stl", ascii_tet, "--mesh FILE", 1, "non-finite coordinate",
+       "re-export the mesh"},
+      {"NaN coordinate (XYZ)", "n.xyz", "0 0 0\n1 nan 0\n", "--points FILE", 1, "point 2 has a NaN",
+       "remove or fix it"},
+      {"Inf coordinate (PLY points)", "i.ply",
+       "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\n"
+       "end_header\n0 0 inf\n1 0 0\n",
+       "--points FILE", 1, "point 1 has a NaN or infinite", "remove or fix it"},
+      {"index out of range (OBJ)", "o.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n", "--mesh FILE", 1,
+       "refers to vertex 9", "re-export"},
+      {"negative index (OBJ, counting back too far)", "o.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -1 -2 -9\n",
+       "--mesh FILE", 1, "refers to vertex -9", "re-export"},
+      {"index out of range (OFF)", "o.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n", "--mesh FILE", 1,
+       "face 0 refers to vertex 7", "re-export"},
+      {"negative index (OFF)", "o.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 -1 2\n", "--mesh FILE", 1,
+       "refers to vertex -1", "re-export"},
+      {"index out of range (PLY)", "o.ply", kPlyHead + kPlyVertices + "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 4\n",
+       "--mesh FILE", 1, "face 3 (counting from 0) refers to vertex 4", "re-export"},
+      {"negative index (PLY)", "o.ply", kPlyHead + kPlyVertices + "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 -2 3\n",
+       "--mesh FILE", 1, "refers to vertex -2", "re-export"},
+      {"only degenerate triangles", "d.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\nf 1 1 2\n", "--mesh FILE",
+       1, "no usable triangles", "give a mesh whose faces enclose some area"},
+      {"collinear points", "c.xyz",
+       "0 0 0\n1 1 1\n2 2 2\n3 3 3\n4 4 4\n5 5 5\n6 6 6\n7 7 7\n8 8 8\n9 9 9\n10 10 10\n", "--points FILE", 1,
+       "lies on a line", "give points spread over the surface"},
+      {"one point", "one.xyz", "1 2 3\n", "--points FILE", 1, "has zero size",
+       "give points that sample a surface"},
+      {"1e6 identical points", "same.xyz", repeated("1 2 3\n", 1000000), "--points FILE", 1, "has zero size",
+       "give points that sample a surface"},
+      {"1e6 duplicate vertices, all triangles degenerate", "dup.obj",
+       repeated("v 1 2 3\n", 1000000) + "f 1 2 3\nf 4 5 6\nf -1 -2 -3\n", "--mesh FILE", 1,
+       "no usable triangles", "give a mesh whose faces enclose some area"},
+      {"coordinates of 1e30", "big.obj", tet_obj("1e30"), "--mesh FILE", 1, "mm across", "check --units"},
+      {"coordinates of 1e-30", "small.obj", tet_obj("1e-30"), "--mesh FILE", 1,
+       "smaller than poreshell makes", "check --units"},
+      {"PLY header lies: 1e9 vertices in a small file", "l.ply",
+       "ply\nformat binary_little_endian 1.0\nelement vertex 1000000000\nproperty float x\nproperty float y\n"
+       "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n" +
+           std::string(60, '\0'),
+       "--mesh FILE", 1, "promises 1000000000 'vertex' entries", "re-export"},
+      {"PLY header lies: list longer than the data", "l.ply",
+       kPlyHead + kPlyVertices + "3 0 2 1\n3 0 1 3\n3 0 3 2\n200 1 2 3\n", "--mesh FILE", 1, "is truncated",
+       "re-export"},
+      {"PLY header lies: big-endian, little-endian data", "be.ply",
+       little_endian_tet_ply("binary_big_endian"), "--mesh FILE", 1, "refers to vertex", "re-export"},
+      {"PLY header: unknown type", "u.ply",
+       "ply\nformat ascii 1.0\nelement vertex 1\nproperty float128 x\nend_header\n0\n", "--mesh FILE", 1,
+       "unknown property type 'float128'", "re-export"},
+      {"PLY header: unknown format", "u.ply", "ply\nformat binary 1.0\nend_header\n", "--mesh FILE", 1,
+       "unknown format 'binary'", "re-export"},
+      {"PLY points: header lies", "l.ply",
+       "ply\nformat ascii 1.0\nelement vertex 1000000\nproperty float x\nproperty float y\nproperty float z\n"
+       "end_header\n0 0 0\n",
+       "--points FILE", 1, "promises 1000000 'vertex' entries", "re-export"},
+      {"garbage zip named .3mf", "g.3mf", zip({{"junk.bin", "garbage garbage garbage"}}), "--mesh FILE", 1,
+       "cannot read mesh file", "valid .3mf"},
+      {"not a zip named .3mf", "g.3mf", "this is not a zip archive\n", "--mesh FILE", 1,
+       "cannot read mesh file", "valid .3mf"},
+      {"3MF with no object", "n.3mf", package_3mf("", ""), "--mesh FILE", 1, "contains no triangles",
+       "give a surface mesh"},
+      {"XYZ with text lines", "t.xyz", "0 0 0\n1 0 0\nvertex three\n0 1 0\n", "--points FILE", 1,
+       "line 3: expected three numbers", "one point a line"},
+      {"XYZ with two columns", "two.xyz", "0 0\n1 0\n0 1\n", "--points FILE", 1,
+       "line 1: expected three numbers", "one point a line"},
+      {"--mesh with --points", "m.obj", tet_obj("10"), "--mesh FILE --points FILE", 2, "excludes",
+       "poreshell --help"},
+  };
+  return r;
+}
+
+class BadInputs : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    root_ = fs::temp_directory_path() / ("poreshell_test_bad_inputs_" + std::to_string(::getpid()));
+    fs::remove_all(root_);
+    fs::create_directories(root_ / "in" / "folder.stl");
+    fs::create_directories(root_ / "out");
+  }
+  void TearDown() override {
+    std::error_code ignored;
+    fs::remove_all(root_, ignored);
+  }
+  fs::path root_;
+};
+
+TEST_F(BadInputs, EachRowFailsWithOneErrorLineNamingProblemAndFixAndWritesNothing) {
+  for (const Row& row : rows()) {
+    SCOPED_TRACE(row.name);
+    const fs::path in = root_ / "in", out = root_ / "out";
+    std::string args = row.args;
+    const auto replace_all = [&](const std::string& from, const std::string& to) {
+      for (std::size_t at = args.find(from); at != std::string::npos; at = args.find(from, at + to.size()))
+        args.replace(at, from.size(), to);
+    };
+    if (!row.file.empty()) {
+      std::ofstream(in / row.file, std::ios::binary) << row.content;
+      replace_all("FILE", quoted(in / row.file));
+    }
+    replace_all("FOLDER", quoted(in / "folder.stl"));
+    if (args.find(" -o ") == std::string::npos) args += " -o out.stl";
+    const fs::path log = root_ / "stderr";
+    const std::string command = "cd '" + out.string() + "' && '" + PORESHELL_EXE + "' " + args + " " +
+                                kSmallRun + " --report out.json >/dev/null 2>'" + log.string() +
+                                "' </dev/null";
+    const int status = std::system(command.c_str());
+    ASSERT_TRUE(WIFEXITED(status)) << "killed by a signal: " << command;
+    EXPECT_EQ(WEXITSTATUS(status), row.exit_code);
+    const auto err = lines(read_file(log));
+    ASSERT_EQ(err.size(), 1u) << read_file(log);
+    EXPECT_EQ(err[0].rfind("poreshell: error: ", 0), 0u) << err[0];
+    EXPECT_NE(err[0].find(row.problem), std::string::npos) << err[0];
+    EXPECT_NE(err[0].find(row.fix), std::string::npos) << err[0];
+    EXPECT_TRUE(fs::is_empty(out)) << "output left behind";
+    if (!row.file.empty()) fs::remove(in / row.file);
+  }
+}
+
+// One triangle is a valid (open) surface, not a bad input: the run writes a closed plate.
+TEST_F(BadInputs, OneTriangleIsAcceptedAndGivesAClosedPlate) {
+  std::ofstream(root_ / "in" / "one.obj") << "v 0 0 0\nv 10 0 0\nv 0 10 0\nf 1 2 3\n";
+  const std::string command = "cd '" + (root_ / "out").string() + "' && '" + PORESHELL_EXE + "' --mesh '" +
+                              (root_ / "in" / "one.obj").string() + "' " + kSmallRun +
+                              " -o plate.stl >/dev/null 2>/dev/null </dev/null";
+  const int status = std::system(command.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0);
+  EXPECT_TRUE(fs::exists(root_ / "out" / "plate.stl"));
+}
+
+}  // namespace
