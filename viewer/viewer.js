@@ -81,7 +81,7 @@
     const solid = report.solid || {};
     if (finite(requestedDiameter)) row(req, 'Hole diameter', mm(requestedDiameter));
     if (finite(requested.spacing_mm)) row(req, 'Spacing', mm(requested.spacing_mm));
-    if (finite(requested.porosity)) row(req, 'Porosity', pct(requested.porosity));
+    if (finite(requested.porosity) && requested.porosity > 0) row(req, 'Porosity', pct(requested.porosity));
     const wallRequested = finite(wall.requested_mm) ? wall.requested_mm : solid.wall_mm;
     if (finite(wallRequested)) row(req, 'Wall', mm(wallRequested));
     if (!req.children.length) req.outerHTML = '<div class="none">no hole request (model parameters)</div>';
@@ -145,7 +145,7 @@
   function drawHistogram() {
     const canvas = document.getElementById('histogram');
     const ctx = canvas.getContext('2d');
-    const W = canvas.width, H = canvas.height, left = 40, bottom = 34, top = 12, right = 12;
+    const W = canvas.width, H = canvas.height, left = 40, bottom = 34, top = 12, right = 24;
     ctx.clearRect(0, 0, W, H);
     ctx.font = '20px sans-serif';
     ctx.fillStyle = '#8b95a3';
@@ -276,17 +276,23 @@
 
   // Solid zones: wireframe spheres and boxes, rim loops as lines.
   const zones = new THREE.Group();
-  const zoneMaterial = new THREE.LineBasicMaterial({ color: 0xb03a8c, transparent: true, opacity: 0.75 });
-  for (const [x, y, z, r] of data.keep_out_spheres) {
-    const sphere = new THREE.LineSegments(new THREE.WireframeGeometry(new THREE.SphereBufferGeometry(r, 24, 12)), zoneMaterial);
-    sphere.position.set(x, y, z);
-    zones.add(sphere);
+  // Each outline twice: solid where in front of the surface, faint where behind it.
+  const zoneMaterials = [
+    new THREE.LineBasicMaterial({ color: 0xb03a8c, transparent: true, opacity: 0.85 }),
+    new THREE.LineBasicMaterial({ color: 0xb03a8c, transparent: true, opacity: 0.22, depthTest: false }),
+  ];
+  function addZone(geometry, x, y, z) {
+    for (const m of zoneMaterials) {
+      const lines = new THREE.LineSegments(geometry, m);
+      lines.position.set(x, y, z);
+      zones.add(lines);
+    }
   }
+  for (const [x, y, z, r] of data.keep_out_spheres)
+    addZone(new THREE.WireframeGeometry(new THREE.SphereBufferGeometry(r, 24, 12)), x, y, z);
   for (const [x0, y0, z0, x1, y1, z1] of data.keep_out_boxes) {
     const edges = new THREE.EdgesGeometry(new THREE.BoxBufferGeometry(Math.abs(x1 - x0), Math.abs(y1 - y0), Math.abs(z1 - z0)));
-    const outline = new THREE.LineSegments(edges, zoneMaterial);
-    outline.position.set((x0 + x1) / 2, (y0 + y1) / 2, (z0 + z1) / 2);
-    zones.add(outline);
+    addZone(edges, (x0 + x1) / 2, (y0 + y1) / 2, (z0 + z1) / 2);
   }
   const rimMaterial = new THREE.LineBasicMaterial({ color: 0xd08a1c });
   for (const loop of data.rim_loops) {
