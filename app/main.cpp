@@ -102,9 +102,25 @@ int usage_error(const std::string& message) {
   return kExitUsage;
 }
 
+// The viewer page and its picture; a picture alone is taken of a page in a temporary file.
+void save_views(const std::string& html, const std::string& png, const poreshell::Result& result,
+                const poreshell::Options& options, const poreshell::Input& input) {
+  if (html.empty() && png.empty()) return;
+  const fs::path page = !html.empty() ? fs::path(html) : fs::path(png).replace_extension(".tmp-view.html");
+  poreshell::save_html(page, result, options, &input);
+  if (png.empty()) return;
+  try {
+    poreshell::save_png(page, png);
+  } catch (...) {
+    if (html.empty()) fs::remove(page);
+    throw;
+  }
+  if (html.empty()) fs::remove(page);
+}
+
 int run(int argc, char** argv) {
   poreshell::Options options;  // its defaults are the paper's section 3.2 values
-  std::string output, report, holes_csv, shape_name = "sphere", mesh, points;
+  std::string output, report, holes_csv, html, png, shape_name = "sphere", mesh, points;
   poreshell::Unit unit = poreshell::Unit::mm;
   double radius = 0.0;
   bool quiet = false;
@@ -311,6 +327,9 @@ int run(int argc, char** argv) {
   app.add_option("--holes", holes_csv,
                  "write the hole table (centre, normal, diameter, circularity, nearest) as CSV")
       ->type_name("OUT.csv");
+  app.add_option("--html", html, "write the interactive viewer: one self-contained page, opens offline")
+      ->type_name("OUT.html");
+  app.add_option("--png", png, "write a picture of the viewer's view (needs chromium)")->type_name("OUT.png");
   app.allow_extras();
 
   try {
@@ -341,6 +360,8 @@ int run(int argc, char** argv) {
   poreshell::check_mesh_path(output);
   if (!report.empty()) poreshell::check_output_path(report);
   if (!holes_csv.empty()) poreshell::check_output_path(holes_csv);
+  if (!html.empty()) poreshell::check_output_path(html);
+  if (!png.empty()) poreshell::check_output_path(png);
 
   poreshell::Input input;
   if (!mesh.empty()) {
@@ -374,6 +395,7 @@ int run(int argc, char** argv) {
   r.seconds.total += write_seconds;
   if (!holes_csv.empty()) poreshell::save_holes_csv(holes_csv, result.outputs.front().holes);
   if (!report.empty()) poreshell::save_report(report, r, result.outputs);
+  save_views(html, png, result, options, input);
 
   print_summary(options, r, result.outputs, report);
   print_warnings(options, r);

@@ -1,0 +1,60 @@
+// The public API's viewer (include/poreshell/io.hpp): the result in the viewer's terms.
+
+#include <variant>
+
+#include "core/error.hpp"
+#include "input/placement.hpp"
+#include "io/display_mesh.hpp"
+#include "io/html_viewer.hpp"
+#include "io/report_json.hpp"
+#include "pattern/solid_zones.hpp"
+#include "poreshell/io.hpp"
+
+namespace poreshell {
+namespace {
+
+Vec3 vec(const Point& p) {
+  return {p[0], p[1], p[2]};
+}
+
+// The open boundary of a mesh input, in mm, as two-point lines.
+std::vector<std::vector<Vec3>> boundary_lines(const Input* input) {
+  const auto* mesh = input ? std::get_if<MeshInput>(input) : nullptr;
+  if (!mesh) return {};
+  const double mm = millimetres_per(mesh->unit);
+  std::vector<std::vector<Vec3>> lines;
+  for (const Segment& s : boundary_segments(to_triangle_mesh(mesh->mesh)))
+    lines.push_back({s[0] * mm, s[1] * mm});
+  return lines;
+}
+
+}  // namespace
+
+void save_html(const std::filesystem::path& path, const Result& result, const Options& options,
+               const Input* input, const ViewOptions& view) {
+  check_output_path(path);
+  if (view.output >= result.outputs.size())
+    throw Error(ErrorCode::invalid_option, "the result has no output " + std::to_string(view.output),
+                "output");
+  const Output& out = result.outputs[view.output];
+  ViewerData data;
+  data.title = view.title.empty() ? result.report.input.name : view.title;
+  data.mesh = reduce_for_display(to_triangle_mesh(out.mesh), view.max_triangles);
+  for (const Hole& h : out.holes)
+    data.holes.push_back({vec(h.centre), vec(h.normal), h.diameter, h.circularity, h.nearest});
+  if (result.report.plan) data.requested_diameter_mm = result.report.plan->diameter;
+  data.rim_width_mm = options.rim;
+  if (options.rim > 0.0) data.rim_loops = boundary_lines(input);
+  for (const KeepOutSphere& k : options.keep_out) data.keep_out_spheres.push_back({vec(k.centre), k.radius});
+  for (const KeepOutBox& k : options.keep_out_boxes) data.keep_out_boxes.push_back({vec(k.min), vec(k.max)});
+  data.report = to_json(result.report, result.outputs);
+  data.density_g_per_cm3 = view.density_g_per_cm3;
+  write_html_viewer(path, data);
+}
+
+void save_png(const std::filesystem::path& html, const std::filesystem::path& png) {
+  check_output_path(png);
+  render_html_png(html, png);
+}
+
+}  // namespace poreshell

@@ -1,0 +1,89 @@
+#include "io/display_mesh.hpp"
+
+#include <Eigen/Geometry>  // cross()
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <unordered_map>
+
+namespace poreshell {
+namespace {
+
+TriangleMesh cluster(const TriangleMesh& mesh, const Vec3& origin, double cell) {
+  struct KeyHash {
+    std::size_t operator()(const std::array<std::int64_t, 3>& k) const {
+      return static_cast<std::size_t>(k[0] * 73856093 ^ k[1] * 19349663 ^ k[2] * 83492791);
+    }
+  };
+  std::unordered_map<std::array<std::int64_t, 3>, std::int32_t, KeyHash> cell_index;
+  cell_index.reserve(mesh.vertices.size() / 4);
+  std::vector<std::int32_t> vertex_cell(mesh.vertices.size());
+  std::vector<Vec3> sum;
+  std::vector<int> count;
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+    const Vec3 q = ((mesh.vertices[v] - origin) / cell).array().floor();
+    const std::array<std::int64_t, 3> key{static_cast<std::int64_t>(q.x()), static_cast<std::int64_t>(q.y()),
+                                          static_cast<std::int64_t>(q.z())};
+    const auto [it, added] = cell_index.try_emplace(key, static_cast<std::int32_t>(sum.size()));
+    if (added) {
+      sum.push_back(Vec3::Zero());
+      count.push_back(0);
+    }
+    vertex_cell[v] = it->second;
+    sum[static_cast<std::size_t>(it->second)] += mesh.vertices[v];
+    ++count[static_cast<std::size_t>(it->second)];
+  }
+  TriangleMesh out;
+  out.vertices.resize(sum.size());
+  for (std::size_t c = 0; c < sum.size(); ++c) out.vertices[c] = sum[c] / count[c];
+  for (const auto& t : mesh.triangles) {
+    const std::array<std::int32_t, 3> c{vertex_cell[static_cast<std::size_t>(t[0])],
+                                        vertex_cell[static_cast<std::size_t>(t[1])],
+                                        vertex_cell[static_cast<std::size_t>(t[2])]};
+    if (c[0] != c[1] && c[1] != c[2] && c[0] != c[2]) out.triangles.push_back(c);
+  }
+  // The same cluster triangle from several input triangles: keep one (sorted corners as the key,
+  // orientation from the first).
+  std::vector<std::size_t> order(out.triangles.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  const auto sorted = [&](std::size_t i) {
+    auto k = out.triangles[i];
+    std::sort(k.begin(), k.end());
+    return k;
+  };
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return sorted(a) < sorted(b); });
+  std::vector<std::array<std::int32_t, 3>> unique;
+  for (std::size_t i = 0; i < order.size(); ++i)
+    if (i == 0 || sorted(order[i]) != sorted(order[i - 1])) unique.push_back(out.triangles[order[i]]);
+  out.triangles = std::move(unique);
+  return out;
+}
+
+}  // namespace
+
+TriangleMesh reduce_for_display(const TriangleMesh& mesh, std::size_t max_triangles) {
+  if (mesh.triangles.size() <= max_triangles || mesh.vertices.empty()) return mesh;
+  Vec3 lo = mesh.vertices.front(), hi = lo;
+  for (const Vec3& v : mesh.vertices) {
+    lo = lo.cwiseMin(v);
+    hi = hi.cwiseMax(v);
+  }
+  double area = 0.0;
+  for (const auto& t : mesh.triangles) {
+    const Vec3& a = mesh.vertices[static_cast<std::size_t>(t[0])];
+    area += 0.5 * (mesh.vertices[static_cast<std::size_t>(t[1])] - a)
+                      .cross(mesh.vertices[static_cast<std::size_t>(t[2])] - a)
+                      .norm();
+  }
+  // A cell of side c holds about one vertex of the reduced surface, which has about 2 triangles a
+  // vertex: area / c^2 vertices give 2 area / c^2 triangles.
+  double cell = std::sqrt(2.0 * area / static_cast<double>(max_triangles));
+  for (;;) {
+    TriangleMesh reduced = cluster(mesh, lo, cell);
+    if (reduced.triangles.size() <= max_triangles) return reduced;
+    cell *= 1.2;
+  }
+}
+
+}  // namespace poreshell
