@@ -33,7 +33,8 @@ double number(const std::string& text, const std::string& whole) {
     used = 0;
   }
   if (used != text.size() || !std::isfinite(value))
-    throw OptionError("grade", "`grade` '" + whole + "': '" + text::quote(text) + "' is not a number; " + kForms);
+    throw OptionError("grade",
+                      "`grade` '" + whole + "': '" + text::quote(text) + "' is not a number; " + kForms);
   return value;
 }
 
@@ -74,7 +75,8 @@ GradeSpec parse_grade_spec(const std::string& raw) {
     // squaredNorm, not norm: the line's parameter divides by it, which must be neither 0 nor inf.
     const double length2 = (g.to - g.from).squaredNorm();
     if (!(length2 > 0.0) || !std::isfinite(length2))
-      throw OptionError("grade", "`grade` '" + text +
+      throw OptionError(
+          "grade", "`grade` '" + text +
                        "': the two points coincide or are too far apart; give two distinct points in mm");
   } else if (kind == "radial" && p.size() == 4) {
     g.kind = GradeSpec::Kind::radial;
@@ -120,7 +122,7 @@ std::function<double(const Vec3&)> graded_diameter(const GradeSpec& spec, const 
     case GradeSpec::Kind::field:
       if (!field)
         throw OptionError("grade", "`grade` field:" + text::quote(spec.property) +
-                         " needs a PLY mesh with that vertex property");
+                                       " needs a PLY mesh with that vertex property");
       if (!spec.mapped) return field;
       return [=](const Vec3& x) { return blend(spec.from_diameter, spec.to_diameter, field(x)); };
   }
