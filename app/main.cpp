@@ -323,6 +323,8 @@ int run(int argc, char** argv) {
       ->type_name("OUT.stl");
   app.add_option("--report", report, "write the run's JSON report here")->type_name("OUT.json");
   app.add_flag("-q,--quiet", quiet, "no per-step progress on stderr");
+  app.add_flag("--keep-fragments", options.keep_fragments,
+               "keep specks and sealed voids under 1% of the largest part's volume (removed by default)");
 
   app.add_option("--holes", holes_csv,
                  "write the hole table (centre, normal, diameter, circularity, nearest) as CSV")

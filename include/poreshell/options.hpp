@@ -74,7 +74,11 @@ struct Options {
   double rim = 0.0;  // mm of solid along the mesh's open boundary
   std::vector<KeepOutSphere> keep_out;
   std::vector<KeepOutBox> keep_out_boxes;
-  std::string keep_out_mask;       // a vertex field of the mesh input: solid where it is 1
+  std::string keep_out_mask;  // a vertex field of the mesh input: solid where it is 1
+  // One part: connected components (specks) and sealed voids under this share of the largest part's
+  // volume are removed from the output; larger ones (two input bodies) are kept and reported.
+  bool keep_fragments = false;
+  double min_part_fraction = 0.01;
   std::int64_t max_triangles = 0;  // reduce each output to at most this many triangles; 0: as meshed
   double max_deviation = 0.05;     // mm, bound on the reduction's distance from the meshed surface
 

@@ -54,6 +54,11 @@ struct LevelReport {
   SpotHoleStats holes;
   std::optional<ReductionReport> reduction;
   WallReport wall;
+  struct {
+    std::int64_t parts = 0;  // connected components written (1: one part; a kept cavity counts too)
+    std::int64_t removed_fragments = 0, removed_voids = 0;
+    double removed_volume = 0.0;  // mm^3
+  } parts;
   std::int64_t spots_at_iso = 0;      // connected components of {phi > iso} on the band
   std::int64_t pores_from_euler = 0;  // (chi of the unperforated solid - chi) / 2
 };

@@ -195,6 +195,7 @@ PipelineResult run_pipeline(const Input& input, const Options& given, RunMonitor
     if (level + 1 == options.iso.size()) shell.reset();  // the samples, before the checks
     monitor.advance((static_cast<double>(level) + 0.5) / static_cast<double>(options.iso.size()));
     for (Vec3& v : out.mesh.vertices) v = placed.to_mm(v);
+    if (!options.keep_fragments) out.parts = keep_main_parts(out.mesh, options.min_part_fraction);
     if (options.max_triangles > 0)
       out.reduction = decimate_mesh(out.mesh, {options.max_triangles, options.max_deviation});
     out.topology = analyze_topology(out.mesh);

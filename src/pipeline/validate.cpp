@@ -83,6 +83,8 @@ void validate(const Options& c) {
   const bool holes = c.hole_diameter > 0.0 || c.spacing > 0.0 || c.porosity > 0.0;
   require(!c.grade || holes, "grade",
           "`grade` sets hole diameters in mm: add `hole_diameter` MM (and `spacing` MM or `porosity` F)");
+  require(c.min_part_fraction >= 0.0 && c.min_part_fraction < 1.0, "min_part_fraction",
+          "`min_part_fraction` must be a share of the largest part's volume in [0, 1)");
   require(c.max_triangles == 0 || c.max_triangles >= 4, "max_triangles",
           "`max_triangles` must be at least 4 (0: keep every triangle)");
   require(c.max_deviation > 0.0 && finite(c.max_deviation), "max_deviation",

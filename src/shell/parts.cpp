@@ -1,0 +1,87 @@
+#include "shell/parts.hpp"
+
+#include <Eigen/Geometry>  // cross()
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <vector>
+
+namespace poreshell {
+namespace {
+
+std::int32_t find(std::vector<std::int32_t>& parent, std::int32_t v) {
+  while (parent[static_cast<std::size_t>(v)] != v) {
+    parent[static_cast<std::size_t>(v)] =
+        parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(v)])];
+    v = parent[static_cast<std::size_t>(v)];
+  }
+  return v;
+}
+
+}  // namespace
+
+PartsSummary keep_main_parts(TriangleMesh& mesh, double min_fraction) {
+  PartsSummary summary;
+  std::vector<std::int32_t> parent(mesh.vertices.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  for (const auto& t : mesh.triangles)
+    for (int k = 1; k < 3; ++k) {
+      const std::int32_t a = find(parent, t[0]), b = find(parent, t[static_cast<std::size_t>(k)]);
+      if (a != b) parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);  // deterministic root
+    }
+  // Signed volume per component (divergence theorem over its triangles).
+  std::vector<double> volume(mesh.vertices.size(), 0.0);
+  std::vector<std::int32_t> component(mesh.triangles.size());
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+    const auto& t = mesh.triangles[i];
+    component[i] = find(parent, t[0]);
+    const Vec3 &a = mesh.vertices[static_cast<std::size_t>(t[0])],
+               &b = mesh.vertices[static_cast<std::size_t>(t[1])],
+               &c = mesh.vertices[static_cast<std::size_t>(t[2])];
+    volume[static_cast<std::size_t>(component[i])] += a.dot(b.cross(c)) / 6.0;
+  }
+  double largest = 0.0;
+  for (double v : volume) largest = std::max(largest, std::abs(v));
+  const double threshold = min_fraction * largest;
+  std::vector<char> keep(mesh.vertices.size(), 0), seen(mesh.vertices.size(), 0);
+  for (std::int32_t root : component) {
+    const auto r = static_cast<std::size_t>(root);
+    if (seen[r]) continue;
+    seen[r] = 1;
+    if (std::abs(volume[r]) >= threshold && volume[r] > 0.0) {
+      keep[r] = 1;
+      ++summary.parts;
+      continue;
+    }
+    // Inward components at or above the threshold are cavities a designer made: kept as well.
+    if (volume[r] < 0.0 && std::abs(volume[r]) >= threshold) {
+      keep[r] = 1;
+      continue;
+    }
+    ++(volume[r] < 0.0 ? summary.removed_voids : summary.removed_fragments);
+    summary.removed_volume += std::abs(volume[r]);
+    summary.largest_removed_volume = std::max(summary.largest_removed_volume, std::abs(volume[r]));
+  }
+  if (summary.removed_fragments + summary.removed_voids == 0) return summary;
+  // Keep the triangles of kept components, then drop the vertices no triangle uses (order kept).
+  std::vector<std::array<std::int32_t, 3>> triangles;
+  triangles.reserve(mesh.triangles.size());
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
+    if (keep[static_cast<std::size_t>(component[i])]) triangles.push_back(mesh.triangles[i]);
+  std::vector<std::int32_t> index(mesh.vertices.size(), -1);
+  for (const auto& t : triangles)
+    for (std::int32_t v : t) index[static_cast<std::size_t>(v)] = 0;
+  std::vector<Vec3> vertices;
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
+    if (index[v] == 0) {
+      index[v] = static_cast<std::int32_t>(vertices.size());
+      vertices.push_back(mesh.vertices[v]);
+    }
+  for (auto& t : triangles)
+    for (std::int32_t& v : t) v = index[static_cast<std::size_t>(v)];
+  mesh.vertices = std::move(vertices);
+  mesh.triangles = std::move(triangles);
+  return summary;
+}
+
+}  // namespace poreshell

@@ -1,0 +1,25 @@
+#pragma once
+// One part for the slicer: the pattern can cut loose specks (a sliver of wall between three holes) and
+// seal voids inside the wall (an inward-facing closed sheet); a slicer lists each as its own part. They
+// are removed here; parts of comparable size (two input bodies) are all kept.
+
+#include <cstdint>
+
+#include "geometry/mesh.hpp"
+
+namespace poreshell {
+
+struct PartsSummary {
+  std::int64_t parts = 0;               // connected components kept (outward, positive volume)
+  std::int64_t removed_fragments = 0;   // outward components below the threshold
+  std::int64_t removed_voids = 0;       // inward components (sealed cavities) below the threshold
+  double removed_volume = 0.0;          // sum of |volume| removed, in the mesh's units cubed
+  double largest_removed_volume = 0.0;  // the largest |volume| removed
+};
+
+// Removes every connected component whose |volume| is below `min_fraction` times the largest
+// component's volume; returns what was kept and removed. Components are connected through shared
+// vertices; the mesh must be closed and consistently oriented.
+PartsSummary keep_main_parts(TriangleMesh& mesh, double min_fraction);
+
+}  // namespace poreshell

@@ -1,0 +1,76 @@
+// One part: specks and sealed voids below the threshold go, parts of comparable size stay.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "shell/parts.hpp"
+
+using namespace poreshell;
+
+namespace {
+
+// A closed octahedron-based sphere of radius r at c, outward (or inward when `inward`).
+void add_sphere(TriangleMesh& m, const Vec3& c, double r, bool inward = false) {
+  const auto base = static_cast<std::int32_t>(m.vertices.size());
+  const int rings = 12, segments = 24;
+  m.vertices.push_back(c + Vec3(0, 0, r));
+  for (int i = 1; i < rings; ++i)
+    for (int j = 0; j < segments; ++j) {
+      const double theta = std::numbers::pi * i / rings, phi = 2 * std::numbers::pi * j / segments;
+      m.vertices.push_back(
+          c + r * Vec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)));
+    }
+  m.vertices.push_back(c - Vec3(0, 0, r));
+  const auto at = [&](int ring, int j) { return base + 1 + (ring - 1) * segments + j % segments; };
+  const auto south = static_cast<std::int32_t>(m.vertices.size() - 1);
+  const auto add = [&](std::int32_t a, std::int32_t b, std::int32_t d) {
+    m.triangles.push_back(inward ? std::array<std::int32_t, 3>{a, d, b}
+                                 : std::array<std::int32_t, 3>{a, b, d});
+  };
+  for (int j = 0; j < segments; ++j) {
+    add(base, at(1, j), at(1, j + 1));
+    for (int i = 1; i + 1 < rings; ++i) {
+      add(at(i, j), at(i + 1, j), at(i + 1, j + 1));
+      add(at(i, j), at(i + 1, j + 1), at(i, j + 1));
+    }
+    add(at(rings - 1, j), south, at(rings - 1, j + 1));
+  }
+}
+
+TEST(Parts, SpecksAndSealedVoidsGoComparablePartsStay) {
+  TriangleMesh m;
+  add_sphere(m, Vec3(0, 0, 0), 10.0);
+  add_sphere(m, Vec3(30, 0, 0), 8.0);        // a second body: half the volume, kept
+  add_sphere(m, Vec3(0, 20, 0), 0.5);        // a speck
+  add_sphere(m, Vec3(2, 0, 0), 1.0, true);   // a sealed void inside the first body
+  add_sphere(m, Vec3(30, 0, 0), 5.0, true);  // a large cavity inside the second: a design, kept
+  const std::size_t before = m.triangles.size();
+  const PartsSummary s = keep_main_parts(m, 0.01);
+  EXPECT_EQ(s.parts, 2);
+  EXPECT_EQ(s.removed_fragments, 1);
+  EXPECT_EQ(s.removed_voids, 1);
+  const double speck = 4.0 / 3.0 * std::numbers::pi * 0.125, hollow = 4.0 / 3.0 * std::numbers::pi;
+  EXPECT_NEAR(s.removed_volume, speck + hollow,
+              0.1 * (speck + hollow));                       // inscribed polyhedra: a little less
+  EXPECT_EQ(m.triangles.size(), before - 2 * (before / 5));  // every sphere has the same triangle count
+  const MeshTopology t = analyze_topology(m);
+  EXPECT_EQ(t.components, 3);  // two bodies and the kept cavity
+  EXPECT_TRUE(t.closed() && t.manifold() && t.oriented());
+  for (const auto& tri : m.triangles)
+    for (std::int32_t v : tri) EXPECT_LT(static_cast<std::size_t>(v), m.vertices.size());
+}
+
+TEST(Parts, NothingToRemoveLeavesTheMeshAsItIs) {
+  TriangleMesh m;
+  add_sphere(m, Vec3(0, 0, 0), 10.0);
+  const TriangleMesh copy = m;
+  const PartsSummary s = keep_main_parts(m, 0.01);
+  EXPECT_EQ(s.parts, 1);
+  EXPECT_EQ(s.removed_fragments + s.removed_voids, 0);
+  EXPECT_EQ(m.vertices, copy.vertices);
+  EXPECT_EQ(m.triangles, copy.triangles);
+}
+
+}  // namespace
