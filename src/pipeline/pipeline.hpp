@@ -36,8 +36,8 @@ struct MeshOutput {
   MeshTopology topology;
   HoleStats holes;                          // on the band at this level, lengths in mm
   std::optional<DecimateResult> reduction;  // --max-triangles
-  WallMeasurement wall;
-  PartsSummary parts;  // what keep_main_parts removed (none with keep_fragments)                     // across the written solid's wall, mm (shell mode)
+  WallMeasurement wall;                     // across the written solid's wall, mm (shell mode)
+  PartsSummary parts;                       // what keep_main_parts removed (none with keep_fragments)
   std::int64_t spots_at_iso = 0;            // connected components of {phi > iso} on the band
   std::int64_t pores_from_euler = 0;        // (chi of the unperforated solid - chi) / 2
 };

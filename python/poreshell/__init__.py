@@ -1,0 +1,435 @@
+"""poreshell: turn a surface into a 3D-printable porous shell with round pores.
+
+The Python binding of the poreshell C++ library. Arrays are numpy arrays; lengths are in millimetres
+unless a ``units`` argument says otherwise; results are always in millimetres.
+
+    >>> import poreshell
+    >>> r = poreshell.perforate(*poreshell.load_mesh("data/stanford-bunny.obj", units="m"), alpha=2200)
+    >>> r.save("bunny.stl"); r.report["mesh"]["pores_from_euler"]
+
+Functions: perforate, load_mesh, load_points, sphere, torus, points, version.
+Errors: ValueError for bad arguments (wrong shape, dtype, NaN, out-of-range option; the message names
+the option in backquotes, as in `hole_diameter`), RuntimeError for other failures. Both carry
+``code`` (invalid_option, invalid_input, too_large, cancelled, io, internal) and ``option`` attributes
+when they come from the library.
+"""
+
+import json
+import os
+
+import numpy as np
+
+from . import _poreshell
+
+__all__ = [
+    "perforate",
+    "load_mesh",
+    "load_points",
+    "sphere",
+    "torus",
+    "points",
+    "Shape",
+    "Points",
+    "Result",
+    "Output",
+    "HOLE_DTYPE",
+    "OPTION_NAMES",
+    "version",
+    "__version__",
+]
+
+__version__ = _poreshell.version()
+
+#: Every option perforate() takes by keyword (the fields of the C++ poreshell::Options).
+OPTION_NAMES = tuple(_poreshell.option_names())
+
+#: The dtype of Result.holes: one row per hole through the wall, measured on the output mesh.
+HOLE_DTYPE = np.dtype(
+    [
+        ("centre", np.float64, (3,)),  # mm, input frame
+        ("normal", np.float64, (3,)),  # unit surface normal
+        ("diameter", np.float64),  # mm, sqrt(4 A / pi) of the mid-wall cross-section's area A
+        ("circularity", np.float64),  # 4 pi A / P^2 (1 for a circle)
+        ("nearest", np.float64),  # mm, to the nearest other hole's centre (0 when alone)
+    ]
+)
+
+_UNITS = ("m", "cm", "mm", "inch")
+
+
+def version():
+    """The library's version string."""
+    return _poreshell.version()
+
+
+# --- Argument checks ------------------------------------------------------------------------------------
+
+
+def _units(units):
+    if units not in _UNITS:
+        raise ValueError("`units` must be one of 'm', 'cm', 'mm', 'inch', got %r" % (units,))
+    return units
+
+
+def _coordinates(array, name):
+    """An (n, 3) float64 C-contiguous array from anything numpy converts safely to float64."""
+    try:
+        a = np.asarray(array)
+    except Exception as e:  # ragged lists and the like
+        raise ValueError("`%s` must be an (n, 3) array of numbers: %s" % (name, e)) from None
+    if a.dtype.kind not in "iuf" or not np.can_cast(a.dtype, np.float64, casting="same_kind"):
+        raise ValueError("`%s` must be an (n, 3) array of numbers, got dtype %s" % (name, a.dtype))
+    if a.ndim != 2 or a.shape[1] != 3:
+        raise ValueError("`%s` must be an (n, 3) array, got shape %s" % (name, a.shape))
+    a = np.ascontiguousarray(a, dtype=np.float64)
+    if not np.isfinite(a).all():
+        row = int(np.argwhere(~np.isfinite(a))[0][0])
+        raise ValueError("`%s` has a NaN or infinite coordinate (row %d)" % (name, row))
+    return a
+
+
+def _indices(array, name, count):
+    """An (m, 3) int32 C-contiguous array of indices into `count` points."""
+    try:
+        a = np.asarray(array)
+    except Exception as e:
+        raise ValueError("`%s` must be an (m, 3) array of integers: %s" % (name, e)) from None
+    if a.size == 0 and a.dtype.kind == "f":
+        a = a.astype(np.int32)  # an empty list becomes float64
+    if a.dtype.kind not in "iu":
+        raise ValueError("`%s` must be an (m, 3) array of integers, got dtype %s" % (name, a.dtype))
+    if a.ndim != 2 or a.shape[1] != 3:
+        raise ValueError("`%s` must be an (m, 3) array, got shape %s" % (name, a.shape))
+    if a.size and (a.min() < 0 or a.max() >= count):
+        raise ValueError(
+            "`%s` has an index outside 0..%d (the vertex count is %d)" % (name, count - 1, count)
+        )
+    return np.ascontiguousarray(a, dtype=np.int32)
+
+
+# --- Inputs ---------------------------------------------------------------------------------------------
+
+
+class Shape:
+    """One of the paper's analytic surfaces, as perforate()'s input: see sphere() and torus()."""
+
+    def __init__(self, kind, radius=None, units="mm"):
+        if kind not in ("sphere", "torus"):
+            raise ValueError("unknown shape %r: use 'sphere' or 'torus'" % (kind,))
+        self.kind = kind
+        self.radius = radius
+        self.units = _units(units)
+
+    def _input(self):
+        radius = 0.0 if self.radius is None else float(self.radius)
+        if self.radius is not None and not radius > 0.0:
+            raise ValueError("`radius` must be a positive length in mm, got %r" % (self.radius,))
+        return _poreshell.shape_input(self.kind, radius, self.units)
+
+    def __repr__(self):
+        return "poreshell.%s(%s)" % (self.kind, "" if self.radius is None else repr(self.radius))
+
+
+def sphere(radius=None, units="mm"):
+    """The sphere of the paper's eq. (3.1), as an input for perforate().
+
+    radius: the sphere's radius in mm; None: the paper's sphere in the unit cube, one unit being
+    `units` ('m', 'cm', 'mm' or 'inch').
+    """
+    return Shape("sphere", radius, units)
+
+
+def torus(major_radius=None, units="mm"):
+    """The torus of the paper's section 3.2, as an input for perforate().
+
+    major_radius: the torus's major radius in mm (the minor radius keeps the paper's ratio); None: the
+    paper's torus in the unit cube, one unit being `units`.
+    """
+    return Shape("torus", major_radius, units)
+
+
+class Points:
+    """A point cloud as perforate()'s input: see points() and load_points()."""
+
+    def __init__(self, points, patches=None, units="mm", name="points"):
+        self.points = _coordinates(points, "points")
+        self.patches = _indices(
+            np.zeros((0, 3), np.int32) if patches is None else patches, "patches", len(self.points)
+        )
+        self.units = _units(units)
+        self.name = name
+
+    def _input(self):
+        return _poreshell.points_input(self.points, self.patches, self.units, self.name)
+
+    def __repr__(self):
+        return "poreshell.Points(%d points, units=%r)" % (len(self.points), self.units)
+
+
+def points(points, units="mm", patches=None):
+    """A point cloud as an input for perforate().
+
+    points: (n, 3) array of coordinates in `units` ('m', 'cm', 'mm' or 'inch').
+    patches: optional (m, 3) integer array of triangles over the points (the paper's route densifies
+    them; see the point_route option).
+    """
+    return Points(points, patches, units)
+
+
+def load_mesh(path, units="mm"):
+    """Reads a triangle mesh (STL, OBJ, PLY, OFF or 3MF, by extension).
+
+    units: the unit of the file's coordinates ('m', 'cm', 'mm' or 'inch').
+    Returns (vertices, faces): vertices an (n, 3) float64 array in millimetres (the file's coordinates
+    times the unit's length in mm), faces an (m, 3) int32 array of vertex indices, counter-clockwise
+    seen from outside. Duplicate vertices are welded.
+    """
+    return _poreshell.load_mesh(os.fspath(path), _units(units))
+
+
+def load_points(path, units="mm"):
+    """Reads a point cloud (XYZ text: .xyz, .txt, .pts; or PLY vertices) as a Points input.
+
+    units: the unit of the file's coordinates; the Points keep them in that unit.
+    """
+    pts, patches = _poreshell.load_points(os.fspath(path))
+    p = Points(pts, patches, units, name=os.fspath(path))
+    return p
+
+
+# --- Results --------------------------------------------------------------------------------------------
+
+
+def _holes_array(holes):
+    out = np.zeros(len(holes["diameter"]), dtype=HOLE_DTYPE)
+    for field in HOLE_DTYPE.names:
+        out[field] = holes[field]
+    return out
+
+
+class Output:
+    """The solid at one pore level.
+
+    iso: the pore level; vertices: (n, 3) float64 in mm (the input's frame); faces: (m, 3) int32,
+    counter-clockwise seen from outside (closed, manifold, oriented); holes: structured array of
+    HOLE_DTYPE (fields centre (n, 3) mm, normal (n, 3), diameter mm, circularity, nearest mm).
+    """
+
+    def __init__(self, level):
+        self.iso = float(level["iso"])
+        self.vertices = level["vertices"]
+        self.faces = level["faces"]
+        self.holes = _holes_array(level["holes"])
+
+    def save(self, path):
+        """Writes this mesh in mm: .stl (binary), .3mf, .obj or .ply (binary) by extension.
+
+        The file is written to a temporary name and renamed, so a failure leaves no partial file.
+        """
+        _poreshell.save_mesh(os.fspath(path), self.vertices, self.faces)
+
+    def __repr__(self):
+        return "poreshell.Output(iso=%g, %d vertices, %d faces, %d holes)" % (
+            self.iso,
+            len(self.vertices),
+            len(self.faces),
+            len(self.holes),
+        )
+
+
+class Result:
+    """What perforate() returns.
+
+    outputs: one Output per pore level (the `iso` option's levels, or the hole map's level).
+    vertices, faces, holes, iso: those of the first output (see Output).
+    report: the JSON report's content as a dict (README.md lists its fields; e.g.
+    report["mesh"]["triangles"], report["mesh"]["pores_from_euler"], report["pattern"]["spots"]).
+    """
+
+    def __init__(self, levels, report_text):
+        self.outputs = [Output(level) for level in levels]
+        self.report = json.loads(report_text)
+
+    @property
+    def vertices(self):
+        return self.outputs[0].vertices
+
+    @property
+    def faces(self):
+        return self.outputs[0].faces
+
+    @property
+    def holes(self):
+        return self.outputs[0].holes
+
+    @property
+    def iso(self):
+        return self.outputs[0].iso
+
+    def save(self, path):
+        """Writes the first output's mesh (see Output.save); use outputs[i].save for the other levels."""
+        self.outputs[0].save(path)
+
+    def save_report(self, path):
+        """Writes the JSON report (indented), to a temporary name first and then renamed."""
+        path = os.fspath(path)
+        _poreshell.check_output_path(path)
+        tmp = "%s.tmp%d" % (path, os.getpid())
+        try:
+            with open(tmp, "w", encoding="utf-8") as f:
+                json.dump(self.report, f, indent=2)
+                f.write("\n")
+            os.replace(tmp, path)
+        except BaseException:
+            if os.path.exists(tmp):
+                os.remove(tmp)
+            raise
+
+    def __repr__(self):
+        return "poreshell.Result(%s)" % ", ".join(repr(o) for o in self.outputs)
+
+
+# --- The run --------------------------------------------------------------------------------------------
+
+
+def perforate(
+    vertices,
+    faces=None,
+    *,
+    units=None,
+    hole_diameter=None,
+    spacing=None,
+    porosity=None,
+    wall=None,
+    offset="centered",
+    rim=0,
+    keep_out=(),
+    keep_out_boxes=(),
+    grade=None,
+    mode="shell",
+    seed=1,
+    threads=0,
+    progress=None,
+    vertex_fields=None,
+    **model,
+):
+    """Perforates a surface: round pores in a printable shell. Returns a Result (meshes in mm).
+
+    The input, first argument(s), one of:
+      vertices, faces   an (n, 3) array of coordinates in `units` (float64, or anything numpy casts
+                        to it safely; no NaN) and an (m, 3) integer array of vertex indices
+                        (counter-clockwise seen from outside); open surfaces and scans with holes are fine
+      path              a mesh file (str or os.PathLike; STL, OBJ, PLY, OFF, 3MF), coordinates in `units`
+      Shape             poreshell.sphere(radius_mm) or poreshell.torus(major_radius_mm)
+      Points            poreshell.points(array, units=...) or poreshell.load_points(path, units=...)
+
+    units: 'm', 'cm', 'mm' or 'inch': the unit of vertices or the file (default 'mm'); Shape and Points
+        carry their own (giving a different one here is an error).
+
+    Holes, in mm (with hole_diameter the hole map chooses alpha, epsilon_m, phi_bar, dt_h, iso and the
+    voxel size, which may then not be given):
+      hole_diameter  hole diameter in mm
+      spacing        centre to nearest centre in mm (default hole_diameter / 0.6)
+      porosity       open share of the surface (0..1), instead of one of the two lengths
+      grade          hole-size grading: the CLI's spec string ('axis:z:4:8', 'line:X,Y,Z:D1:X,Y,Z:D2',
+                     'radial:X,Y,Z:R:D0', 'field:NAME[:D0:D1]') or a dict with keys kind ('axis', 'line',
+                     'radial', 'field'), axis (0-2 or 'x'/'y'/'z'), from, to (3-tuples, mm),
+                     from_diameter, to_diameter, radius (mm), field, mapped
+
+    The printed solid:
+      mode           'shell' (a wall, pores straight through it) or 'narrow_volume' (the paper's Fig. 3b)
+      wall           wall thickness in mm (default: the band's width, 3.81 voxels)
+      offset         'centered', 'inside' or 'outside' the surface
+      rim            mm of solid along the mesh's open boundary
+      keep_out       sequence of (x, y, z, r) solid spheres in mm (in the input's frame, scaled to mm)
+      keep_out_boxes sequence of (x0, y0, z0, x1, y1, z1) solid boxes in mm (two opposite corners)
+      vertex_fields  dict name -> (n,) array of per-vertex scalars of the mesh input, for the
+                     keep_out_mask option and grading by a field (with a path: names of PLY properties,
+                     as a sequence of str)
+
+    The run:
+      seed           seed of the initial random field (same seed, same result)
+      threads        worker threads, 0: all cores (results do not depend on it)
+      progress       callable(stage, fraction): stage is 'input', 'band', 'solve', 'shell', 'mesh' or
+                     'holes', fraction 0..1 of that stage; called from the run's threads with the GIL
+                     held, at each stage's start and a few times a second while solving. An exception it
+                     raises cancels the run and propagates out of perforate() unchanged.
+
+    **model: the other options by their API names (OPTION_NAMES lists them all):
+      resolution (131: grid points along the longest side), voxel_size (mm, instead), alpha (1400),
+      epsilon_m (4), dt_h (100), phi_bar (-0.3), iso (0, or a sequence of levels: one output each),
+      initial_amplitude (0.5), tolerance (1e-3), max_steps (2000), solver ('fast' or 'reference'),
+      fast_tolerance, min_stabilisation, coarse_start (bool), inner ('gauss_seidel' or 'jacobi'),
+      inner_tolerance, energy_every, point_route ('direct' or 'paper'), keep_out_mask (a vertex
+      field's name), max_triangles, max_deviation (mm), max_memory_gb.
+      An unknown keyword raises TypeError.
+
+    The GIL is released while the run works; Ctrl-C (KeyboardInterrupt) cancels it within about half a
+    second. Raises ValueError for bad arguments (the message names the option in backquotes) and
+    RuntimeError for other failures (too large for memory, internal errors); library errors carry
+    `code` and `option` attributes.
+
+    Example: the bundled Stanford bunny (coordinates in metres) with the paper's section 3.4 alpha:
+        r = poreshell.perforate("data/stanford-bunny.obj", units="m", alpha=2200)
+        r.save("bunny.stl"); print(r.report["mesh"]["pores_from_euler"], len(r.faces))
+    """
+    options = dict(
+        hole_diameter=hole_diameter,
+        spacing=spacing,
+        porosity=porosity,
+        wall=wall,
+        offset=offset,
+        rim=rim,
+        keep_out=keep_out,
+        keep_out_boxes=keep_out_boxes,
+        grade=grade,
+        mode=mode,
+        seed=seed,
+        threads=threads,
+    )
+    for name, value in model.items():
+        if name not in OPTION_NAMES or name in options:
+            raise TypeError("perforate() got an unexpected keyword argument %r" % (name,))
+        options[name] = value
+    if progress is not None and not callable(progress):
+        raise ValueError("`progress` must be a callable (stage, fraction) or None")
+    return Result(*_poreshell.perforate(_make_input(vertices, faces, units, vertex_fields), options, progress))
+
+
+def _make_input(first, faces, units, vertex_fields):
+    if isinstance(first, (Shape, Points)):
+        if faces is not None:
+            raise ValueError("`faces` is only for a vertex array; a %s has none" % type(first).__name__)
+        if vertex_fields:
+            raise ValueError("`vertex_fields` is only for a mesh input")
+        if units is not None and units != first.units:
+            raise ValueError(
+                "`units` %r differs from the input's own %r: give units to %s instead"
+                % (units, first.units, "points()" if isinstance(first, Points) else "the shape")
+            )
+        return first._input()
+    units = _units("mm" if units is None else units)
+    if isinstance(first, (str, os.PathLike)):
+        if faces is not None:
+            raise ValueError("`faces` is only for a vertex array, not a file")
+        fields = [] if vertex_fields is None else list(vertex_fields)
+        if not all(isinstance(f, str) for f in fields):
+            raise ValueError("with a file, `vertex_fields` names PLY vertex properties (a sequence of str)")
+        return _poreshell.file_mesh_input(os.fspath(first), units, fields)
+    if faces is None:
+        raise ValueError(
+            "perforate() needs vertices and faces, a mesh file's path, a Shape (poreshell.sphere, "
+            "poreshell.torus) or Points (poreshell.points)"
+        )
+    v = _coordinates(first, "vertices")
+    f = _indices(faces, "faces", len(v))
+    fields = {}
+    for name, values in (vertex_fields or {}).items():
+        a = np.asarray(values)
+        if a.dtype.kind not in "iufb" or a.shape != (len(v),):
+            raise ValueError(
+                "vertex field %r must be a (%d,) array of numbers, got shape %s dtype %s"
+                % (name, len(v), a.shape, a.dtype)
+            )
+        fields[str(name)] = a.astype(np.float64).tolist()
+    return _poreshell.mesh_input(v, f, units, "mesh", fields)

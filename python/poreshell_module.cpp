@@ -1,0 +1,561 @@
+// poreshell._poreshell: the Python binding of the public C++ API (include/poreshell/). The pure-Python
+// part (python/poreshell/__init__.py) checks and converts numpy arguments and documents the API; this
+// file builds the library's Input and Options from them, runs perforate() with the GIL released, and
+// turns the Result into numpy arrays and the JSON report text.
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <cstring>
+#include <exception>
+#include <functional>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "poreshell/poreshell.hpp"
+
+namespace py = pybind11;
+
+namespace {
+
+static_assert(sizeof(poreshell::Point) == 3 * sizeof(double), "Point must be three packed doubles");
+static_assert(sizeof(poreshell::Triangle) == 3 * sizeof(std::int32_t), "Triangle must be three packed ints");
+
+using Doubles = py::array_t<double, py::array::c_style | py::array::forcecast>;
+using Ints = py::array_t<std::int32_t, py::array::c_style | py::array::forcecast>;
+
+// Thrown through the library from the progress callback when Python raised (the Python error is kept
+// aside and raised again once the run has stopped). Not a std::exception, so no stage can swallow it.
+struct CallbackAbort {};
+
+// An input, opaque to Python (pybind11/stl.h would convert the variant itself to a Python object).
+struct InputBox {
+  poreshell::Input input;
+};
+
+// The library's messages name options by their API names, which are the keyword names here too, except
+// the shape's size.
+std::string python_message(std::string message) {
+  const std::string from = "`radius_mm`", to = "`radius`";
+  for (std::size_t at = message.find(from); at != std::string::npos; at = message.find(from, at + to.size()))
+    message.replace(at, from.size(), to);
+  return message;
+}
+
+const char* code_name(poreshell::ErrorCode code) {
+  switch (code) {
+    case poreshell::ErrorCode::invalid_option:
+      return "invalid_option";
+    case poreshell::ErrorCode::invalid_input:
+      return "invalid_input";
+    case poreshell::ErrorCode::too_large:
+      return "too_large";
+    case poreshell::ErrorCode::cancelled:
+      return "cancelled";
+    case poreshell::ErrorCode::io:
+      return "io";
+    case poreshell::ErrorCode::internal:
+      return "internal";
+  }
+  return "internal";
+}
+
+// poreshell::Error -> ValueError (bad option or input) or RuntimeError (everything else), with the
+// library's message and two attributes: `code` (the ErrorCode's name) and `option` (the API name, or "").
+void raise_error(const poreshell::Error& e) {
+  const bool bad_argument =
+      e.code() == poreshell::ErrorCode::invalid_option || e.code() == poreshell::ErrorCode::invalid_input;
+  py::handle type = bad_argument ? PyExc_ValueError : PyExc_RuntimeError;
+  py::object exc = type(python_message(e.what()));
+  exc.attr("code") = code_name(e.code());
+  exc.attr("option") = e.option() == "radius_mm" ? std::string("radius") : e.option();
+  PyErr_SetObject(type.ptr(), exc.ptr());
+}
+
+poreshell::Unit to_unit(const std::string& name) {
+  static const std::map<std::string, poreshell::Unit> units{{"m", poreshell::Unit::m},
+                                                            {"cm", poreshell::Unit::cm},
+                                                            {"mm", poreshell::Unit::mm},
+                                                            {"inch", poreshell::Unit::inch},
+                                                            {"in", poreshell::Unit::inch}};
+  const auto it = units.find(name);
+  if (it == units.end())
+    throw py::value_error("`units` must be 'm', 'cm', 'mm' or 'inch', got '" + name + "'");
+  return it->second;
+}
+
+std::vector<poreshell::Point> to_points(const Doubles& array) {
+  if (array.ndim() != 2 || array.shape(1) != 3)
+    throw py::value_error("expected an (n, 3) array of coordinates");
+  std::vector<poreshell::Point> points(static_cast<std::size_t>(array.shape(0)));
+  if (!points.empty()) std::memcpy(points.data(), array.data(), points.size() * sizeof(poreshell::Point));
+  return points;
+}
+
+std::vector<poreshell::Triangle> to_triangles(const Ints& array) {
+  if (array.ndim() != 2 || array.shape(1) != 3) throw py::value_error("expected an (m, 3) array of indices");
+  std::vector<poreshell::Triangle> triangles(static_cast<std::size_t>(array.shape(0)));
+  if (!triangles.empty())
+    std::memcpy(triangles.data(), array.data(), triangles.size() * sizeof(poreshell::Triangle));
+  return triangles;
+}
+
+py::array_t<double> points_array(const std::vector<poreshell::Point>& points) {
+  py::array_t<double> out({static_cast<py::ssize_t>(points.size()), py::ssize_t{3}});
+  if (!points.empty())
+    std::memcpy(out.mutable_data(), points.data(), points.size() * sizeof(poreshell::Point));
+  return out;
+}
+
+py::array_t<std::int32_t> triangles_array(const std::vector<poreshell::Triangle>& triangles) {
+  py::array_t<std::int32_t> out({static_cast<py::ssize_t>(triangles.size()), py::ssize_t{3}});
+  if (!triangles.empty())
+    std::memcpy(out.mutable_data(), triangles.data(), triangles.size() * sizeof(poreshell::Triangle));
+  return out;
+}
+
+// --- Options from keyword arguments -------------------------------------------------------------------
+
+[[noreturn]] void bad_value(const std::string& name, const std::string& what, py::handle value) {
+  throw py::value_error("`" + name + "` must be " + what + ", got " + py::repr(value).cast<std::string>());
+}
+
+double to_double(const std::string& name, py::handle value) {
+  if (!py::isinstance<py::float_>(value) && !py::isinstance<py::int_>(value) &&
+      !py::hasattr(value, "__float__"))
+    bad_value(name, "a number", value);
+  if (py::isinstance<py::bool_>(value)) bad_value(name, "a number", value);
+  try {
+    return value.cast<double>();
+  } catch (const py::cast_error&) {
+    bad_value(name, "a number", value);
+  }
+}
+
+template <typename Int>
+Int to_int(const std::string& name, py::handle value) {
+  if (py::isinstance<py::bool_>(value) || py::isinstance<py::float_>(value))
+    bad_value(name, "an integer", value);
+  try {
+    return value.cast<Int>();
+  } catch (const py::cast_error&) {
+    bad_value(name, "an integer in range", value);
+  }
+}
+
+bool to_bool(const std::string& name, py::handle value) {
+  if (!py::isinstance<py::bool_>(value)) bad_value(name, "True or False", value);
+  return value.cast<bool>();
+}
+
+std::string to_string(const std::string& name, py::handle value) {
+  if (!py::isinstance<py::str>(value)) bad_value(name, "a string", value);
+  return value.cast<std::string>();
+}
+
+template <typename Enum>
+Enum to_enum(const std::string& name, py::handle value, const std::map<std::string, Enum>& choices) {
+  std::string text = to_string(name, value);
+  for (char& ch : text)
+    if (ch == '-') ch = '_';
+  if (const auto it = choices.find(text); it != choices.end()) return it->second;
+  std::string names;
+  for (const auto& [key, unused] : choices) names += (names.empty() ? "'" : ", '") + key + "'";
+  bad_value(name, "one of " + names, value);
+}
+
+std::vector<double> to_numbers(const std::string& name, py::handle value, std::size_t count) {
+  const std::string what = "a sequence of " + std::to_string(count) + " numbers";
+  if (!py::isinstance<py::sequence>(value) || py::isinstance<py::str>(value)) bad_value(name, what, value);
+  const auto seq = py::reinterpret_borrow<py::sequence>(value);
+  if (seq.size() != count) bad_value(name, what, value);
+  std::vector<double> out;
+  for (py::handle item : seq) out.push_back(to_double(name, item));
+  return out;
+}
+
+poreshell::Point to_point(const std::string& name, py::handle value) {
+  const std::vector<double> v = to_numbers(name, value, 3);
+  return {v[0], v[1], v[2]};
+}
+
+// A sequence of `count`-tuples (or an (n, count) array).
+std::vector<std::vector<double>> to_rows(const std::string& name, py::handle value, std::size_t count) {
+  if (!py::isinstance<py::sequence>(value) || py::isinstance<py::str>(value)) {
+    if (py::isinstance<py::array>(value)) return to_rows(name, value.attr("tolist")(), count);
+    bad_value(name, "a sequence of " + std::to_string(count) + "-tuples", value);
+  }
+  std::vector<std::vector<double>> rows;
+  for (py::handle row : py::reinterpret_borrow<py::sequence>(value))
+    rows.push_back(to_numbers(name, row, count));
+  return rows;
+}
+
+poreshell::Grade to_grade(py::handle value) {
+  if (py::isinstance<py::str>(value)) return poreshell::parse_grade(value.cast<std::string>());
+  if (!py::isinstance<py::dict>(value))
+    bad_value("grade", "a spec string such as 'axis:z:4:8' or a dict", value);
+  poreshell::Grade grade;
+  for (const auto& [key_handle, item] : py::reinterpret_borrow<py::dict>(value)) {
+    const std::string key = py::str(key_handle);
+    const std::string name = "grade[" + key + "]";
+    if (key == "kind") {
+      grade.kind = to_enum<poreshell::Grade::Kind>(name, item,
+                                                   {{"axis", poreshell::Grade::Kind::axis},
+                                                    {"line", poreshell::Grade::Kind::line},
+                                                    {"radial", poreshell::Grade::Kind::radial},
+                                                    {"field", poreshell::Grade::Kind::field}});
+    } else if (key == "axis") {
+      if (py::isinstance<py::str>(item))
+        grade.axis = to_enum<int>(name, item, {{"x", 0}, {"y", 1}, {"z", 2}});
+      else
+        grade.axis = to_int<int>(name, item);
+    } else if (key == "from") {
+      grade.from = to_point(name, item);
+    } else if (key == "to") {
+      grade.to = to_point(name, item);
+    } else if (key == "from_diameter") {
+      grade.from_diameter = to_double(name, item);
+    } else if (key == "to_diameter") {
+      grade.to_diameter = to_double(name, item);
+    } else if (key == "radius") {
+      grade.radius = to_double(name, item);
+    } else if (key == "field") {
+      grade.field = to_string(name, item);
+    } else if (key == "mapped") {
+      grade.mapped = to_bool(name, item);
+    } else {
+      throw py::value_error("`grade` has no key '" + key +
+                            "': use kind, axis, from, to, from_diameter, to_diameter, radius, field, mapped");
+    }
+  }
+  return grade;
+}
+
+using Setter = std::function<void(poreshell::Options&, const std::string&, py::handle)>;
+
+Setter set_double(double poreshell::Options::*field) {
+  return [field](poreshell::Options& o, const std::string& n, py::handle v) { o.*field = to_double(n, v); };
+}
+template <typename Int>
+Setter set_int(Int poreshell::Options::*field) {
+  return [field](poreshell::Options& o, const std::string& n, py::handle v) { o.*field = to_int<Int>(n, v); };
+}
+template <typename Enum>
+Setter set_enum(Enum poreshell::Options::*field, std::map<std::string, Enum> choices) {
+  return [field, choices](poreshell::Options& o, const std::string& n, py::handle v) {
+    o.*field = to_enum(n, v, choices);
+  };
+}
+
+// Every field of poreshell::Options, by its API name.
+const std::map<std::string, Setter>& setters() {
+  using O = poreshell::Options;
+  static const std::map<std::string, Setter> table{
+      {"hole_diameter", set_double(&O::hole_diameter)},
+      {"spacing", set_double(&O::spacing)},
+      {"porosity", set_double(&O::porosity)},
+      {"grade", [](O& o, const std::string&, py::handle v) { o.grade = to_grade(v); }},
+      {"resolution", set_int(&O::resolution)},
+      {"voxel_size", set_double(&O::voxel_size)},
+      {"mode", set_enum(&O::mode, {{"shell", poreshell::Mode::shell},
+                                   {"narrow_volume", poreshell::Mode::narrow_volume}})},
+      {"wall", set_double(&O::wall)},
+      {"offset", set_enum(&O::offset, {{"centered", poreshell::WallOffset::centered},
+                                       {"inside", poreshell::WallOffset::inside},
+                                       {"outside", poreshell::WallOffset::outside}})},
+      {"rim", set_double(&O::rim)},
+      {"keep_out",
+       [](O& o, const std::string& n, py::handle v) {
+         o.keep_out.clear();
+         for (const auto& r : to_rows(n, v, 4)) o.keep_out.push_back({{r[0], r[1], r[2]}, r[3]});
+       }},
+      {"keep_out_boxes",
+       [](O& o, const std::string& n, py::handle v) {
+         o.keep_out_boxes.clear();
+         for (const auto& r : to_rows(n, v, 6))
+           o.keep_out_boxes.push_back({{r[0], r[1], r[2]}, {r[3], r[4], r[5]}});
+       }},
+      {"keep_out_mask", [](O& o, const std::string& n, py::handle v) { o.keep_out_mask = to_string(n, v); }},
+      {"max_triangles", set_int(&O::max_triangles)},
+      {"max_deviation", set_double(&O::max_deviation)},
+      {"alpha", set_double(&O::alpha)},
+      {"epsilon_m", set_double(&O::epsilon_m)},
+      {"dt_h", set_double(&O::dt_h)},
+      {"phi_bar", set_double(&O::phi_bar)},
+      {"iso",
+       [](O& o, const std::string& n, py::handle v) {
+         o.iso.clear();
+         if (py::isinstance<py::sequence>(v) && !py::isinstance<py::str>(v)) {
+           for (py::handle item : py::reinterpret_borrow<py::sequence>(v))
+             o.iso.push_back(to_double(n, item));
+           if (o.iso.empty()) bad_value(n, "a level or a non-empty sequence of levels", v);
+         } else {
+           o.iso.push_back(to_double(n, v));
+         }
+       }},
+      {"initial_amplitude", set_double(&O::initial_amplitude)},
+      {"seed", set_int(&O::seed)},
+      {"tolerance", set_double(&O::tolerance)},
+      {"max_steps", set_int(&O::max_steps)},
+      {"solver", set_enum(&O::solver, {{"fast", poreshell::SolverKind::fast},
+                                       {"reference", poreshell::SolverKind::reference}})},
+      {"fast_tolerance", set_double(&O::fast_tolerance)},
+      {"min_stabilisation", set_double(&O::min_stabilisation)},
+      {"coarse_start", [](O& o, const std::string& n, py::handle v) { o.coarse_start = to_bool(n, v); }},
+      {"inner", set_enum(&O::inner, {{"gauss_seidel", poreshell::InnerIteration::gauss_seidel},
+                                     {"jacobi", poreshell::InnerIteration::jacobi}})},
+      {"inner_tolerance", set_double(&O::inner_tolerance)},
+      {"energy_every", set_int(&O::energy_every)},
+      {"point_route", set_enum(&O::point_route, {{"direct", poreshell::PointRoute::direct},
+                                                 {"paper", poreshell::PointRoute::paper}})},
+      {"max_memory_gb", set_double(&O::max_memory_gb)},
+      {"threads", set_int(&O::threads)},
+  };
+  return table;
+}
+
+poreshell::Options to_options(const py::dict& kwargs) {
+  poreshell::Options options;
+  for (const auto& [key_handle, value] : kwargs) {
+    const std::string key = py::str(key_handle);
+    const auto it = setters().find(key);
+    if (it == setters().end())
+      throw py::type_error("perforate() got an unexpected keyword argument '" + key + "'");
+    if (!value.is_none()) it->second(options, key, value);
+  }
+  // As the CLI: with holes asked in mm, the hole map chooses the model, which may then not be given
+  // (Options cannot tell a default from a value given).
+  for (const char* hole : {"hole_diameter", "spacing", "porosity"}) {
+    if (!kwargs.contains(hole) || kwargs[hole].is_none()) continue;
+    for (const char* model : {"alpha", "epsilon_m", "dt_h", "phi_bar", "iso"})
+      if (kwargs.contains(model) && !kwargs[model].is_none())
+        throw py::value_error(std::string("`") + model + "` cannot be given with `" + hole +
+                              "`: the hole map chooses it from the holes in mm");
+  }
+  poreshell::validate(options);
+  return options;
+}
+
+// --- The run ----------------------------------------------------------------------------------------------
+
+struct RunState {
+  py::object progress;                         // a callable (stage, fraction), or None
+  std::optional<py::error_already_set> error;  // what Python raised: re-raised after the run (GIL held)
+  std::atomic<bool> cancel{false};
+};
+
+py::dict holes_dict(const std::vector<poreshell::Hole>& holes) {
+  const auto n = static_cast<py::ssize_t>(holes.size());
+  py::array_t<double> centre({n, py::ssize_t{3}}), normal({n, py::ssize_t{3}});
+  py::array_t<double> diameter(n), circularity(n), nearest(n);
+  auto c = centre.mutable_unchecked<2>();
+  auto nm = normal.mutable_unchecked<2>();
+  auto d = diameter.mutable_unchecked<1>();
+  auto ci = circularity.mutable_unchecked<1>();
+  auto ne = nearest.mutable_unchecked<1>();
+  for (py::ssize_t i = 0; i < n; ++i) {
+    const poreshell::Hole& h = holes[static_cast<std::size_t>(i)];
+    for (py::ssize_t k = 0; k < 3; ++k) {
+      c(i, k) = h.centre[static_cast<std::size_t>(k)];
+      nm(i, k) = h.normal[static_cast<std::size_t>(k)];
+    }
+    d(i) = h.diameter;
+    ci(i) = h.circularity;
+    ne(i) = h.nearest;
+  }
+  py::dict out;
+  out["centre"] = centre;
+  out["normal"] = normal;
+  out["diameter"] = diameter;
+  out["circularity"] = circularity;
+  out["nearest"] = nearest;
+  return out;
+}
+
+// Runs perforate() on a thread of its own while this (the calling, usually main) thread waits with the
+// GIL released, checking for signals every 50 ms: Ctrl-C sets the cancel flag, and the run stops within
+// about half a second. The progress callback takes the GIL from the run's threads.
+py::tuple run(const InputBox& input, const py::dict& kwargs, const py::object& progress) {
+  const poreshell::Options options = to_options(kwargs);
+  RunState state;
+  state.progress = progress;
+  poreshell::RunControl control;
+  control.cancel = &state.cancel;
+  if (!progress.is_none()) {
+    // Captures a pointer only: the RunControl is copied inside the run, without the GIL.
+    control.progress = [s = &state](const poreshell::Progress& p) {
+      py::gil_scoped_acquire gil;
+      if (s->error) throw CallbackAbort{};
+      try {
+        s->progress(py::str(p.stage.data(), p.stage.size()), p.fraction);
+      } catch (py::error_already_set& e) {
+        s->error = std::move(e);
+        s->cancel.store(true);
+        throw CallbackAbort{};
+      }
+    };
+  }
+
+  poreshell::Result result;
+  std::exception_ptr failure;
+  {
+    std::mutex mutex;
+    std::condition_variable finished;
+    bool done = false;
+    py::gil_scoped_release release;
+    std::thread worker([&] {
+      try {
+        result = poreshell::perforate(input.input, options, control);
+      } catch (...) {
+        failure = std::current_exception();
+      }
+      std::lock_guard lock(mutex);
+      done = true;
+      finished.notify_one();
+    });
+    std::unique_lock lock(mutex);
+    while (!finished.wait_for(lock, std::chrono::milliseconds(50), [&] { return done; })) {
+      if (state.cancel.load()) continue;
+      lock.unlock();
+      {
+        py::gil_scoped_acquire gil;
+        if (PyErr_CheckSignals() != 0) {
+          if (!state.error) state.error = py::error_already_set();
+          PyErr_Clear();
+          state.cancel.store(true);
+        }
+      }
+      lock.lock();
+    }
+    lock.unlock();
+    worker.join();
+  }
+  if (state.error) throw *state.error;  // the callback's exception or KeyboardInterrupt, unchanged
+  if (failure) std::rethrow_exception(failure);
+
+  const std::string report = poreshell::report_json(result.report, result.outputs);
+  py::list outputs;
+  for (poreshell::Output& out : result.outputs) {
+    py::dict level;
+    level["iso"] = out.iso;
+    level["vertices"] = points_array(out.mesh.vertices);
+    level["faces"] = triangles_array(out.mesh.triangles);
+    level["holes"] = holes_dict(out.holes);
+    out.mesh = {};  // one copy at a time
+    outputs.append(level);
+  }
+  return py::make_tuple(outputs, report);
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_poreshell, m) {
+  m.doc() = "The C++ part of poreshell; use the functions of the poreshell package.";
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const poreshell::Error& e) {
+      raise_error(e);
+    } catch (const CallbackAbort&) {
+      PyErr_SetString(PyExc_RuntimeError, "the run was cancelled by its progress callback");
+    }
+  });
+
+  py::class_<InputBox>(m, "Input", "An input of the library: a mesh, a point cloud or a shape.");
+
+  m.def(
+      "mesh_input",
+      [](const Doubles& vertices, const Ints& faces, const std::string& units, const std::string& name,
+         const std::map<std::string, std::vector<double>>& fields) {
+        poreshell::MeshInput in;
+        in.mesh.vertices = to_points(vertices);
+        in.mesh.triangles = to_triangles(faces);
+        in.unit = to_unit(units);
+        in.name = name;
+        in.vertex_fields = fields;
+        return InputBox{std::move(in)};
+      },
+      py::arg("vertices"), py::arg("faces"), py::arg("units"), py::arg("name"), py::arg("fields"));
+  m.def(
+      "points_input",
+      [](const Doubles& points, const Ints& patches, const std::string& units, const std::string& name) {
+        poreshell::PointsInput in;
+        in.points = to_points(points);
+        in.patches = to_triangles(patches);
+        in.unit = to_unit(units);
+        in.name = name;
+        return InputBox{std::move(in)};
+      },
+      py::arg("points"), py::arg("patches"), py::arg("units"), py::arg("name"));
+  m.def(
+      "shape_input",
+      [](const std::string& kind, double radius_mm, const std::string& units) {
+        poreshell::ShapeInput in;
+        if (kind == "sphere")
+          in.kind = poreshell::ShapeKind::sphere;
+        else if (kind == "torus")
+          in.kind = poreshell::ShapeKind::torus;
+        else
+          throw py::value_error("unknown shape '" + kind + "': use sphere or torus");
+        in.radius_mm = radius_mm;
+        in.unit = to_unit(units);
+        return InputBox{in};
+      },
+      py::arg("kind"), py::arg("radius_mm"), py::arg("units"));
+  m.def(
+      "file_mesh_input",
+      [](const std::filesystem::path& path, const std::string& units,
+         const std::vector<std::string>& fields) {
+        return InputBox{poreshell::load_mesh(path, to_unit(units), fields)};
+      },
+      py::arg("path"), py::arg("units"), py::arg("fields"));
+  m.def(
+      "load_mesh",
+      [](const std::filesystem::path& path, const std::string& units) {
+        const poreshell::Unit unit = to_unit(units);
+        poreshell::MeshInput in = poreshell::load_mesh(path, unit);
+        const double scale = poreshell::millimetres_per(unit);
+        if (scale != 1.0)
+          for (poreshell::Point& p : in.mesh.vertices)
+            for (double& x : p) x *= scale;
+        return py::make_tuple(points_array(in.mesh.vertices), triangles_array(in.mesh.triangles));
+      },
+      py::arg("path"), py::arg("units"));
+  m.def(
+      "load_points",
+      [](const std::filesystem::path& path) {
+        poreshell::PointsInput in = poreshell::load_points(path);
+        return py::make_tuple(points_array(in.points), triangles_array(in.patches));
+      },
+      py::arg("path"));
+  m.def(
+      "save_mesh",
+      [](const std::filesystem::path& path, const Doubles& vertices, const Ints& faces) {
+        poreshell::Mesh mesh;
+        mesh.vertices = to_points(vertices);
+        mesh.triangles = to_triangles(faces);
+        py::gil_scoped_release release;
+        poreshell::save_mesh(path, mesh);
+      },
+      py::arg("path"), py::arg("vertices"), py::arg("faces"));
+  m.def("check_mesh_path", [](const std::filesystem::path& path) { poreshell::check_mesh_path(path); });
+  m.def("check_output_path", [](const std::filesystem::path& path) { poreshell::check_output_path(path); });
+  m.def("option_names", [] {
+    std::vector<std::string> names;
+    for (const auto& [name, unused] : setters()) names.push_back(name);
+    return names;
+  });
+  m.def("perforate", &run, py::arg("input"), py::arg("options"), py::arg("progress"));
+  m.def("version", [] { return std::string(poreshell::version()); });
+}

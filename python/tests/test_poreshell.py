@@ -1,0 +1,210 @@
+"""Tests of the Python package poreshell (run by ctest as `python`, with PYTHONPATH=build/python)."""
+
+import json
+import os
+import pathlib
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+import poreshell
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+DATA = pathlib.Path(os.environ.get("PORESHELL_DATA_DIR", ROOT / "data"))
+BUNNY = DATA / "stanford-bunny.obj"
+CLI = pathlib.Path(os.environ.get("PORESHELL_EXE", ROOT / "build" / "app" / "poreshell"))
+
+# A small, quick run: a 20 mm sphere on a coarse grid (well under a second).
+SMALL = dict(resolution=41, max_steps=40, threads=2)
+
+
+@pytest.fixture(scope="module")
+def small():
+    return poreshell.perforate(poreshell.sphere(20), **SMALL)
+
+
+def test_bunny_matches_cli(tmp_path):
+    """The paper's bunny run gives the CLI's triangle count and pore counts, with the same seed."""
+    stl, report = tmp_path / "cli.stl", tmp_path / "cli.json"
+    subprocess.run(
+        [str(CLI), "--mesh", str(BUNNY), "--units", "m", "--alpha", "2200", "--seed", "7", "-q",
+         "-o", str(stl), "--report", str(report)],
+        check=True, stdout=subprocess.DEVNULL,
+    )
+    cli = json.loads(report.read_text())["mesh"]
+
+    r = poreshell.perforate(str(BUNNY), units="m", alpha=2200, seed=7)
+    mesh = r.report["mesh"]
+    assert len(r.faces) == cli["triangles"] == mesh["triangles"]
+    assert mesh["pores_from_euler"] == cli["pores_from_euler"]
+    assert mesh["spots_at_iso"] == cli["spots_at_iso"]
+    assert r.report["pattern"]["spots"] == json.loads(report.read_text())["pattern"]["spots"]
+    assert r.vertices.dtype == np.float64 and r.vertices.shape[1] == 3
+    assert r.faces.dtype == np.int32 and r.faces.shape[1] == 3
+
+
+
+def test_array_input_gives_a_closed_shell(small):
+    v, f = small.vertices, small.faces
+    r = poreshell.perforate(v, f, **SMALL)
+    mesh = r.report["mesh"]
+    assert mesh["closed"] and mesh["manifold"] and mesh["oriented"]
+    assert r.report["input"]["kind"] == "mesh"
+    assert len(r.faces) == mesh["triangles"]
+    assert r.holes.dtype == poreshell.HOLE_DTYPE
+
+
+def test_result_fields(small):
+    assert small.report["mesh"]["closed"]
+    assert small.report["input"]["kind"] == "shape"
+    assert small.vertices.shape == (small.report["mesh"]["vertices"], 3)
+    assert 0 <= small.faces.min() and small.faces.max() < len(small.vertices)
+    assert np.abs(small.vertices).max() < 25  # mm: a 20 mm sphere in a thin wall
+    assert small.holes["centre"].shape == (len(small.holes), 3)
+    assert len(small.outputs) == 1 and small.iso == 0.0
+
+
+@pytest.mark.parametrize(
+    "vertices, faces, match",
+    [
+        (np.zeros((4, 2)), [[0, 1, 2]], "shape"),
+        (np.zeros(12), [[0, 1, 2]], "shape"),
+        ([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1]], "shape"),
+        (np.array([["a", "b", "c"]] * 3), [[0, 1, 2]], "dtype"),
+        (np.zeros((3, 3), dtype=complex), [[0, 1, 2]], "dtype"),
+        (np.zeros((3, 3)), np.array([[0.0, 1.0, 2.0]]), "dtype"),
+        (np.array([[0, 0, 0], [1, np.nan, 0], [0, 1, 0]]), [[0, 1, 2]], "NaN"),
+        (np.array([[0, 0, 0], [1, np.inf, 0], [0, 1, 0]]), [[0, 1, 2]], "NaN"),
+        (np.zeros((3, 3)), [[0, 1, 3]], "index"),
+        (np.zeros((3, 3)), [[0, -1, 2]], "index"),
+    ],
+)
+def test_bad_arrays_raise_value_error(vertices, faces, match):
+    with pytest.raises(ValueError, match=match):
+        poreshell.perforate(vertices, faces)
+
+
+def test_bad_options():
+    with pytest.raises(ValueError, match="`hole_diameter`") as e:
+        poreshell.perforate(poreshell.sphere(20), hole_diameter=-1)
+    assert e.value.code == "invalid_option" and e.value.option == "hole_diameter"
+    with pytest.raises(ValueError, match="`resolution`"):
+        poreshell.perforate(poreshell.sphere(20), resolution=40.5)
+    with pytest.raises(ValueError, match="`solver`"):
+        poreshell.perforate(poreshell.sphere(20), solver="slow")
+    with pytest.raises(ValueError, match="`keep_out`"):
+        poreshell.perforate(poreshell.sphere(20), keep_out=[(0, 0, 0)])
+    with pytest.raises(ValueError, match="`grade`"):
+        poreshell.perforate(poreshell.sphere(20), hole_diameter=4, grade="diagonal:4:8")
+    with pytest.raises(ValueError, match="`units`"):
+        poreshell.perforate(poreshell.sphere(20), units="furlong")
+    with pytest.raises(ValueError, match="`alpha` cannot be given with `hole_diameter`"):
+        poreshell.perforate(poreshell.sphere(20), hole_diameter=5, alpha=2200)
+    with pytest.raises(TypeError, match="alpah"):
+        poreshell.perforate(poreshell.sphere(20), alpah=2200)
+
+
+def test_progress_is_called():
+    calls = []
+    poreshell.perforate(poreshell.sphere(20), progress=lambda stage, f: calls.append((stage, f)), **SMALL)
+    stages = [stage for stage, _ in calls]
+    assert "solve" in stages and "mesh" in stages
+    assert all(isinstance(f, float) and 0.0 <= f <= 1.0 for _, f in calls)
+
+
+def test_exception_in_progress_cancels_and_propagates():
+    class Stop(Exception):
+        pass
+
+    seen = []
+
+    def progress(stage, fraction):
+        seen.append(stage)
+        if stage == "solve":
+            raise Stop("stop here")
+
+    with pytest.raises(Stop, match="stop here"):
+        poreshell.perforate(poreshell.sphere(20), progress=progress, resolution=81, threads=2)
+    assert seen[-1] == "solve"  # nothing after the exception
+
+
+def test_ctrl_c_cancels_promptly():
+    """SIGINT during the solve: KeyboardInterrupt out of perforate() well within a second."""
+    code = (
+        "import poreshell, sys\n"
+        "try:\n"
+        "    poreshell.perforate(poreshell.sphere(20), resolution=131, tolerance=1e-12, max_steps=100000,\n"
+        "        progress=lambda s, f: s == 'solve' and print(s, flush=True))\n"
+        "except KeyboardInterrupt:\n"
+        "    print('interrupted', flush=True); sys.exit(3)\n"
+    )
+    p = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
+    try:
+        assert p.stdout.readline().strip() == "solve"
+        start = time.monotonic()
+        p.send_signal(signal.SIGINT)
+        out = p.stdout.read()
+        assert p.wait(timeout=30) == 3
+        assert time.monotonic() - start < 2.0
+        assert out.strip().endswith("interrupted")
+    finally:
+        if p.poll() is None:
+            p.kill()
+
+
+def test_save_round_trips_through_load_mesh(small, tmp_path):
+    for ext in ("stl", "ply", "obj"):
+        path = tmp_path / ("sphere." + ext)
+        small.save(path)
+        v, f = poreshell.load_mesh(path)
+        assert len(f) == len(small.faces)
+        assert v.dtype == np.float64 and f.dtype == np.int32
+        # Welded on load: compare as sets of vertices (STL keeps float32).
+        a = np.unique(np.round(small.vertices, 3), axis=0)
+        b = np.unique(np.round(v, 3), axis=0)
+        assert a.shape == b.shape
+        np.testing.assert_allclose(np.sort(small.vertices, axis=0), np.sort(v, axis=0), atol=1e-4)
+    small.save_report(tmp_path / "r.json")
+    assert json.loads((tmp_path / "r.json").read_text()) == small.report
+
+
+def test_save_errors(small, tmp_path):
+    with pytest.raises(RuntimeError):
+        small.save(tmp_path / "missing" / "x.stl")
+    with pytest.raises(ValueError, match="missing.obj") as e:  # the library: a bad input
+        poreshell.load_mesh(tmp_path / "missing.obj")
+    assert e.value.code == "invalid_input"
+
+
+def test_load_mesh_units():
+    v_mm, f = poreshell.load_mesh(BUNNY, units="m")
+    v_m, f_m = poreshell.load_mesh(BUNNY)
+    np.testing.assert_array_equal(f, f_m)
+    np.testing.assert_allclose(v_mm, v_m * 1000)
+
+
+def test_points_input():
+    rng = np.random.default_rng(1)
+    p = rng.normal(size=(4000, 3))
+    p = 20 * p / np.linalg.norm(p, axis=1, keepdims=True)
+    r = poreshell.perforate(poreshell.points(p, units="mm"), **SMALL)
+    assert r.report["input"]["kind"] == "points"
+    assert r.report["mesh"]["closed"]
+
+
+def test_several_levels(tmp_path):
+    r = poreshell.perforate(poreshell.sphere(20), iso=[0.3, 0.0], **SMALL)
+    assert [o.iso for o in r.outputs] == [0.3, 0.0]
+    assert len(r.report["mesh"]["outputs"]) == 2
+    r.outputs[1].save(tmp_path / "b.3mf")
+    assert (tmp_path / "b.3mf").stat().st_size > 0
+
+
+def test_help_is_useful():
+    doc = poreshell.perforate.__doc__
+    for word in ("vertices", "(n, 3)", "mm", "hole_diameter", "progress", "ValueError", "Shape"):
+        assert word in doc
