@@ -323,6 +323,16 @@ int run(int argc, char** argv) {
       ->type_name("OUT.stl");
   app.add_option("--report", report, "write the run's JSON report here")->type_name("OUT.json");
   app.add_flag("-q,--quiet", quiet, "no per-step progress on stderr");
+  app.add_option("--thin-features", options.thin_feature_ratio,
+                 "no hole where the part is thinner than this many hole diameters (ears, fingers); 0: off")
+      ->type_name("RATIO")
+      ->check(number_above(0.0, true))
+      ->capture_default_str();
+  app.add_option("--crease-angle", options.crease_angle,
+                 "no hole within half a hole of an edge sharper than this (degrees); 0: off")
+      ->type_name("DEG")
+      ->check(number_above(0.0, true))
+      ->capture_default_str();
   app.add_flag("--keep-fragments", options.keep_fragments,
                "keep specks and sealed voids under 1% of the largest part's volume (removed by default)");
 

@@ -72,6 +72,11 @@ struct Options {
   double wall = 0.0;  // mm; 0: the band's width 2 delta = 3.81 h
   WallOffset offset = WallOffset::centered;
   double rim = 0.0;  // mm of solid along the mesh's open boundary
+  // Thin parts and sharp creases kept whole (holes asked in mm, mesh inputs): no hole where the part is
+  // thinner than thin_feature_ratio times the hole diameter (ears, fingers), nor within half a hole of
+  // an edge sharper than crease_angle degrees. 0 turns either off.
+  double thin_feature_ratio = 1.5;
+  double crease_angle = 40.0;
   std::vector<KeepOutSphere> keep_out;
   std::vector<KeepOutBox> keep_out_boxes;
   std::string keep_out_mask;  // a vertex field of the mesh input: solid where it is 1

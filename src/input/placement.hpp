@@ -26,9 +26,10 @@ struct InputSummary {
   double scale = 1.0;                     // grid units per input unit (meshes are fitted to the unit box)
   std::string units = "mm";               // unit of the input's coordinates
   double millimetres_per_unit = 1.0;
-  std::string point_route{};          // points: "direct" or "paper"
-  std::int64_t densified_points = 0;  // points, paper route: after Fig. 8's densification
-  int segmentation_iterations = 0;    // points, paper route: explicit steps of eq. (3.3)
+  std::string point_route{};                         // points: "direct" or "paper"
+  std::int64_t densified_points = 0;                 // points, paper route: after Fig. 8's densification
+  int segmentation_iterations = 0;                   // points, paper route: explicit steps of eq. (3.3)
+  std::int64_t thin_vertices = 0, crease_edges = 0;  // features kept solid (input/features.hpp)
 };
 
 // The surface in grid coordinates; `to_mm` maps results back to millimetres.

@@ -119,7 +119,9 @@ json to_json(const Report& r, std::span<const Output> outputs) {
         {"scale_to_grid", r.input.scale_to_grid},
         {"point_route", r.input.point_route},  // points only: direct | paper
         {"densified_points", r.input.densified_points},
-        {"segmentation_iterations", r.input.segmentation_iterations}}},
+        {"segmentation_iterations", r.input.segmentation_iterations},
+        {"thin_feature_vertices", r.input.thin_vertices},
+        {"crease_edges", r.input.crease_edges}}},
       {"units", {{"input", r.input.units}, {"input_mm_per_unit", r.input.mm_per_unit}, {"output", "mm"}}},
       {"grid",
        {{"dims", r.grid_dims}, {"h", r.h}, {"h_input_units", r.h / r.input.scale_to_grid}, {"h_mm", r.h_mm}}},

@@ -2,6 +2,11 @@
 
 #include <tbb/parallel_for.h>
 
+#include <memory>
+
+#include "input/features.hpp"
+#include "input/vertex_field.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -104,8 +109,11 @@ std::vector<double> mean_concentration_field(std::span<const double> weight, dou
 }
 
 std::vector<double> solid_zones(const Options& c, const PlacedSurface& placed, const NarrowBand& band,
-                                double epsilon, const std::function<double(const Vec3&)>& mask) {
-  if (c.rim <= 0.0 && c.keep_out.empty() && c.keep_out_boxes.empty() && !mask) return {};
+                                double epsilon, const std::function<double(const Vec3&)>& mask,
+                                const FeatureZones& features) {
+  const bool creases = !features.creases.empty() && features.crease_width > 0.0;
+  if (c.rim <= 0.0 && c.keep_out.empty() && c.keep_out_boxes.empty() && !mask && !features.thin && !creases)
+    return {};
   const double grid_per_mm = 1.0 / placed.mm_per_grid();
   const auto from_mm = [&](const Point& p) { return placed.from_mm(Vec3(p[0], p[1], p[2])); };
   std::vector<SolidSphere> spheres;
@@ -120,12 +128,43 @@ std::vector<double> solid_zones(const Options& c, const PlacedSurface& placed, c
   // The ramp lets the pattern meet the zone over about one interface width.
   std::vector<double> weight =
       solid_zone_weight(band, boundary, c.rim * grid_per_mm, spheres, 2.0 * epsilon, boxes);
-  if (mask)
-    for (std::size_t v = 0; v < band.size(); ++v) {
-      const double m = mask(placed.to_mm(band.grid().position(band.voxels()[v])));
-      weight[v] = std::max(weight[v], std::clamp(2.0 * (m - 0.25), 0.0, 1.0));
-    }
+  if (creases) {
+    const std::vector<double> edge =
+        solid_zone_weight(band, features.creases, features.crease_width, {}, 2.0 * epsilon);
+    for (std::size_t v = 0; v < band.size(); ++v) weight[v] = std::max(weight[v], edge[v]);
+  }
+  // Masks and thin marks are 0/1 per vertex, interpolated: solid above 0.75, free below 0.25.
+  const auto blend = [](double m) { return std::clamp(2.0 * (m - 0.25), 0.0, 1.0); };
+  if (mask || features.thin)
+    tbb::parallel_for(std::size_t{0}, band.size(), [&](std::size_t v) {
+      const Vec3 x = band.grid().position(band.voxels()[v]);
+      if (mask) weight[v] = std::max(weight[v], blend(mask(placed.to_mm(x))));
+      if (features.thin) weight[v] = std::max(weight[v], blend(features.thin(x)));
+    });
   return weight;
+}
+
+FeatureZones feature_zones(const Options& c, PlacedSurface& placed, double hole_diameter_mm) {
+  FeatureZones zones;
+  if (!placed.mesh || !(hole_diameter_mm > 0.0) || (c.thin_feature_ratio <= 0.0 && c.crease_angle <= 0.0))
+    return zones;
+  const double hole = hole_diameter_mm / placed.mm_per_grid();
+  FeatureOptions o;
+  o.thin_below = c.thin_feature_ratio * hole;
+  o.margin = 0.5 * hole;  // a hole centred nearer would reach into the thin part
+  o.crease_degrees = c.crease_angle;
+  o.min_crease_length = hole;
+  SurfaceFeatures f = find_surface_features(*placed.mesh, *placed.surface, o);
+  placed.input.thin_vertices = f.thin_vertices;
+  placed.input.crease_edges = f.crease_edges;
+  if (f.thin_vertices > 0) {
+    auto field = std::make_shared<const VertexScalarField>(placed.mesh->vertices, std::move(f.thin),
+                                                           placed.mesh->triangles, "thin");
+    zones.thin = [field](const Vec3& x) { return field->at(x); };
+  }
+  zones.creases.assign(f.creases.begin(), f.creases.end());
+  zones.crease_width = 0.5 * hole;
+  return zones;
 }
 
 }  // namespace poreshell

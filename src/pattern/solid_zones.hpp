@@ -41,7 +41,19 @@ std::vector<double> mean_concentration_field(std::span<const double> weight, dou
 // Per band voxel, how solid the wall must stay (0 free, 1 solid) from the options (mm, input frame): rims
 // along the mesh's open boundary, keep-out spheres and boxes, and a keep-out mask (a 0/1 vertex field,
 // evaluated by `mask` at points in mm, blended over 0.25-0.75). Empty where nothing is kept out.
+// Thin parts and creases of the input (input/features.hpp) in grid units: `thin` evaluates the thin
+// marks at a point, creases are kept `crease_width` clear.
+struct FeatureZones {
+  std::function<double(const Vec3&)> thin;
+  std::vector<Segment> creases;
+  double crease_width = 0.0;
+};
 std::vector<double> solid_zones(const Options& options, const PlacedSurface& placed, const NarrowBand& band,
-                                double epsilon, const std::function<double(const Vec3&)>& mask);
+                                double epsilon, const std::function<double(const Vec3&)>& mask,
+                                const FeatureZones& features = {});
+
+// The thin parts and creases of a mesh input for holes of `hole_diameter_mm` (the options' thresholds);
+// none for shapes and point clouds. Counts them in `placed.input`.
+FeatureZones feature_zones(const Options& options, PlacedSurface& placed, double hole_diameter_mm);
 
 }  // namespace poreshell

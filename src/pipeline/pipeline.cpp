@@ -93,7 +93,9 @@ PipelineResult run_pipeline(const Input& input, const Options& given, RunMonitor
 
   monitor.stage("input");
   auto t = std::chrono::steady_clock::now();
-  const PlacedSurface placed = place_surface(input, options);
+  PlacedSurface placed = place_surface(input, options);
+  const FeatureZones features =
+      result.plan ? feature_zones(options, placed, result.plan->diameter) : FeatureZones{};
   result.input = placed.input;
   result.solid.mode = options.mode == Mode::shell ? "shell" : "narrow-volume";
   result.seconds_input = seconds_since(t);
@@ -131,7 +133,7 @@ PipelineResult run_pipeline(const Input& input, const Options& given, RunMonitor
   monitor.stage("solve");
   t = std::chrono::steady_clock::now();
   const SolidZones zones = [&](const NarrowBand& b, double epsilon) {
-    return solid_zones(options, placed, b, epsilon, mask);
+    return solid_zones(options, placed, b, epsilon, mask, features);
   };
   SolveResult solved = solve_pattern(options, result.plan, placed, grid, band, zones, monitor);
   result.model = solved.model;

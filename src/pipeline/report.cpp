@@ -42,7 +42,9 @@ Report make_report(const PipelineResult& r, const Options& options) {
                   in.millimetres_per_unit,
                   in.point_route,
                   in.densified_points,
-                  in.segmentation_iterations};
+                  in.segmentation_iterations,
+                  in.thin_vertices,
+                  in.crease_edges};
   const double mm_per_grid = in.millimetres_per_unit / in.scale;
   report.grid_dims = r.grid_dims;
   report.h = r.h;

@@ -42,6 +42,10 @@ void validate(const Options& c) {
   require(c.max_memory_gb >= 0.0 && finite(c.max_memory_gb), "max_memory_gb",
           "`max_memory_gb` must be a positive number of GB");
   require(c.rim >= 0.0 && finite(c.rim), "rim", "`rim` must be a width >= 0 in mm");
+  require(c.thin_feature_ratio >= 0.0 && finite(c.thin_feature_ratio), "thin_feature_ratio",
+          "`thin_feature_ratio` must be >= 0 (a share of the hole diameter; 0: off)");
+  require(c.crease_angle >= 0.0 && c.crease_angle < 180.0, "crease_angle",
+          "`crease_angle` must be in degrees, 0 (off) to below 180");
   for (const KeepOutSphere& k : c.keep_out)
     require(k.radius > 0.0 && finite(k.centre[0] + k.centre[1] + k.centre[2] + k.radius), "keep_out",
             "`keep_out` takes X,Y,Z,R in mm with a radius R > 0");

@@ -1,0 +1,124 @@
+#include "input/features.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <Eigen/Geometry>  // cross()
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <numeric>
+
+#include "geometry/point_tree.hpp"
+
+namespace poreshell {
+namespace {
+
+using Edge = std::pair<std::int32_t, std::int32_t>;
+
+Vec3 face_normal(const TriangleMesh& m, const std::array<std::int32_t, 3>& t) {
+  const Vec3& a = m.vertices[static_cast<std::size_t>(t[0])];
+  return (m.vertices[static_cast<std::size_t>(t[1])] - a)
+      .cross(m.vertices[static_cast<std::size_t>(t[2])] - a);
+}
+
+std::vector<double> thin_vertices(const TriangleMesh& mesh, const Surface& surface, const FeatureOptions& o) {
+  std::vector<Vec3> normal(mesh.vertices.size(), Vec3::Zero());
+  double volume = 0.0;
+  for (const auto& t : mesh.triangles) {
+    const Vec3 n = face_normal(mesh, t);  // area-weighted
+    for (std::int32_t v : t) normal[static_cast<std::size_t>(v)] += n;
+    volume += mesh.vertices[static_cast<std::size_t>(t[0])].dot(n) / 6.0;
+  }
+  const double inward = volume >= 0.0 ? -1.0 : 1.0;
+  const double radius = 0.5 * o.thin_below;
+  std::vector<double> thin(mesh.vertices.size(), 0.0);
+  tbb::parallel_for(std::size_t{0}, mesh.vertices.size(), [&](std::size_t v) {
+    if (!(normal[v].squaredNorm() > 0.0)) return;
+    const Vec3 in = inward * normal[v].normalized();
+    for (double share : {0.25, 0.5, 0.75, 1.0}) {
+      const double t = share * radius;
+      if (surface.distance(mesh.vertices[v] + t * in) < 0.9 * t) {
+        thin[v] = 1.0;
+        return;
+      }
+    }
+  });
+  if (o.margin <= 0.0) return thin;
+  // Vertices within the margin of a thin one: a hole centred there would reach into the thin part.
+  std::vector<Vec3> marked;
+  for (std::size_t v = 0; v < thin.size(); ++v)
+    if (thin[v] > 0.0) marked.push_back(mesh.vertices[v]);
+  if (marked.empty()) return thin;
+  const PointTree tree(marked);
+  std::vector<double> grown(thin.size(), 0.0);
+  tbb::parallel_for(std::size_t{0}, mesh.vertices.size(), [&](std::size_t v) {
+    grown[v] = tree.nearest(mesh.vertices[v]).second <= o.margin ? 1.0 : 0.0;
+  });
+  return grown;
+}
+
+// Sharp edges (dihedral above the angle, both faces present), kept where they chain through shared
+// vertices into a crease at least min_crease_length long.
+std::vector<std::array<Vec3, 2>> crease_segments(const TriangleMesh& mesh, const FeatureOptions& o) {
+  std::map<Edge, std::pair<int, int>> faces;  // edge -> first two faces
+  for (std::size_t f = 0; f < mesh.triangles.size(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const std::int32_t a = mesh.triangles[f][static_cast<std::size_t>(k)],
+                         b = mesh.triangles[f][static_cast<std::size_t>((k + 1) % 3)];
+      auto [it, added] = faces.try_emplace({std::min(a, b), std::max(a, b)}, static_cast<int>(f), -1);
+      if (!added && it->second.second < 0) it->second.second = static_cast<int>(f);
+    }
+  const double cos_limit = std::cos(o.crease_degrees * std::numbers::pi / 180.0);
+  std::vector<Edge> sharp;
+  for (const auto& [edge, f] : faces) {
+    if (f.second < 0) continue;  // a boundary edge: the rim's business
+    const Vec3 n0 = face_normal(mesh, mesh.triangles[static_cast<std::size_t>(f.first)]).normalized();
+    const Vec3 n1 = face_normal(mesh, mesh.triangles[static_cast<std::size_t>(f.second)]).normalized();
+    if (n0.allFinite() && n1.allFinite() && n0.dot(n1) < cos_limit) sharp.push_back(edge);
+  }
+  // Chains: union-find over the sharp edges' vertices, length per chain.
+  std::vector<std::int32_t> parent(mesh.vertices.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  const auto find = [&](std::int32_t v) {
+    while (parent[static_cast<std::size_t>(v)] != v)
+      v = parent[static_cast<std::size_t>(v)] =
+          parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(v)])];
+    return v;
+  };
+  for (const Edge& e : sharp) {
+    const std::int32_t a = find(e.first), b = find(e.second);
+    if (a != b) parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
+  }
+  std::vector<double> length(mesh.vertices.size(), 0.0);
+  const auto segment = [&](const Edge& e) {
+    return std::array<Vec3, 2>{mesh.vertices[static_cast<std::size_t>(e.first)],
+                               mesh.vertices[static_cast<std::size_t>(e.second)]};
+  };
+  for (const Edge& e : sharp) {
+    const auto s = segment(e);
+    length[static_cast<std::size_t>(find(e.first))] += (s[1] - s[0]).norm();
+  }
+  std::vector<std::array<Vec3, 2>> creases;
+  for (const Edge& e : sharp)
+    if (length[static_cast<std::size_t>(find(e.first))] >= o.min_crease_length) creases.push_back(segment(e));
+  return creases;
+}
+
+}  // namespace
+
+SurfaceFeatures find_surface_features(const TriangleMesh& mesh, const Surface& surface,
+                                      const FeatureOptions& options) {
+  SurfaceFeatures f;
+  if (options.thin_below > 0.0) {
+    f.thin = thin_vertices(mesh, surface, options);
+    f.thin_vertices = static_cast<std::int64_t>(std::count(f.thin.begin(), f.thin.end(), 1.0));
+  }
+  if (options.crease_degrees > 0.0) {
+    f.creases = crease_segments(mesh, options);
+    f.crease_edges = static_cast<std::int64_t>(f.creases.size());
+  }
+  return f;
+}
+
+}  // namespace poreshell

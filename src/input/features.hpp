@@ -1,0 +1,37 @@
+#pragma once
+// Where a mesh cannot carry a hole: parts thinner than a hole (ears, fingers, claws, tails), where a
+// hole would cut the part into a ring or a notch, and sharp creases, where a hole would straddle the
+// edge as a D. Found on the input mesh, they become solid zones like rims (pattern/solid_zones.hpp),
+// so the pattern arranges itself around them.
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "geometry/mesh.hpp"
+#include "geometry/surface.hpp"
+
+namespace poreshell {
+
+struct SurfaceFeatures {
+  std::vector<double> thin;                  // per mesh vertex: 1 on or near a thin part, else 0
+  std::vector<std::array<Vec3, 2>> creases;  // sharp edges, in chains at least as long as a hole
+  std::int64_t thin_vertices = 0;            // vertices marked (the margin included)
+  std::int64_t crease_edges = 0;
+};
+
+struct FeatureOptions {
+  double thin_below = 0.0;       // a part thinner than this is thin (the mesh's units); 0: off
+  double margin = 0.0;           // vertices within this of a thin one are marked too
+  double crease_degrees = 0.0;   // dihedral angle above which an edge is sharp; 0: off
+  double min_crease_length = 0;  // shorter chains of sharp edges are scan noise, not creases
+};
+
+// `surface` answers distances to `mesh` (the same triangles). The thickness test: a ball of radius t
+// touching the surface at a vertex from inside (along the inward normal) stays at distance t from the
+// surface for t up to half the local thickness; it is tried at t = 1/4, 1/2, 3/4 and 1 of
+// thin_below / 2. Needs outward-oriented triangles (an inward mesh is turned by its signed volume).
+SurfaceFeatures find_surface_features(const TriangleMesh& mesh, const Surface& surface,
+                                      const FeatureOptions& options);
+
+}  // namespace poreshell
