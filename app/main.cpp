@@ -43,6 +43,22 @@ const std::map<std::string, poreshell::InnerIteration> kInners{
 const std::map<std::string, poreshell::PointRoute> kPointRoutes{{"direct", poreshell::PointRoute::direct},
                                                                 {"paper", poreshell::PointRoute::paper}};
 
+const std::map<std::string, poreshell::StopRule> kStopRules{{"auto", poreshell::StopRule::automatic},
+                                                            {"paper", poreshell::StopRule::paper},
+                                                            {"holes", poreshell::StopRule::holes}};
+
+// --preview and --stop (docs/solver.md "Stop rules").
+void add_stop_flags(CLI::App& app, poreshell::Options& options) {
+  app.add_flag("--preview", options.preview,
+               "the pattern alone, fast: the surface with its holes painted on (.ply with vertex colours, "
+               "--html), no shell; stopped as soon as the hole layout has settled");
+  app.add_option("--stop", options.stop,
+                 "when the run ends: holes (the hole layout has settled; the default with --hole-diameter, "
+                 "--spacing or --porosity) or paper (e_c < --tol; the default otherwise)")
+      ->transform(CLI::CheckedTransformer(kStopRules))
+      ->default_str("auto");
+}
+
 // The library names options by their API names in backquotes (`hole_diameter`); here they are flags.
 std::string with_flags(std::string message) {
   static const std::map<std::string, std::string> kFlags{
@@ -196,6 +212,7 @@ int run(int argc, char** argv) {
       ->type_name("K")
       ->check(number_above(0.0, false))
       ->capture_default_str();
+  add_stop_flags(app, options);
   app.add_option("--tol", options.tolerance, "stop when the consecutive change e_c < tol (paper: 1e-3)")
       ->type_name("T")
       ->check(number_above(0.0, false))
@@ -398,7 +415,7 @@ int run(int argc, char** argv) {
   const auto start_write = std::chrono::steady_clock::now();
   for (std::size_t i = 0; i < result.outputs.size(); ++i) {
     const fs::path path = poreshell::output_path_for_level(output, result.outputs[i].iso, several);
-    poreshell::save_mesh(path, result.outputs[i].mesh);
+    poreshell::save_mesh(path, result.outputs[i]);
     r.outputs[i].path = path.string();
   }
   const double write_seconds =

@@ -52,11 +52,20 @@ void print_summary(const poreshell::Options& c, const poreshell::Report& r,
         "{} inner iterations, {} spots, {:.2f} s; carried here\n",
         cs->grid[0], cs->grid[1], cs->grid[2], r.model.epsilon / cs->h, cs->band_voxels, cs->steps,
         cs->inner_iterations, cs->spots, cs->seconds);
-  fmt::print("  solver   {} ({} inner): {} steps, final e_c {:.3e} {} tol {:g} ({}), {} inner iterations{}\n",
-             r.solver.name, r.solver.inner_iteration, r.solver.steps, r.solver.final_ec,
-             r.solver.reached_tolerance ? "<" : ">=", c.tolerance,
-             yes_no(r.solver.reached_tolerance, "reached", "NOT reached"), r.solver.inner_iterations,
-             r.solver.inner_converged ? "" : " (some steps did not reach --inner-tol)");
+  if (r.solver.stop_rule == "holes")
+    fmt::print(
+        "  solver   {} ({} inner): {} steps, hole layout {} (holes rule), final e_c {:.3e}, {} inner "
+        "iterations{}\n",
+        r.solver.name, r.solver.inner_iteration, r.solver.steps,
+        yes_no(r.solver.reached_tolerance, "settled", "NOT settled"), r.solver.final_ec,
+        r.solver.inner_iterations, r.solver.inner_converged ? "" : " (some steps did not reach --inner-tol)");
+  else
+    fmt::print(
+        "  solver   {} ({} inner): {} steps, final e_c {:.3e} {} tol {:g} ({}), {} inner iterations{}\n",
+        r.solver.name, r.solver.inner_iteration, r.solver.steps, r.solver.final_ec,
+        r.solver.reached_tolerance ? "<" : ">=", c.tolerance,
+        yes_no(r.solver.reached_tolerance, "reached", "NOT reached"), r.solver.inner_iterations,
+        r.solver.inner_converged ? "" : " (some steps did not reach --inner-tol)");
   if (std::isnan(r.solver.energy_first))
     fmt::print("  energy   not evaluated (a diagnostic: --energy-every K)\n");
   else
@@ -135,7 +144,12 @@ void print_summary(const poreshell::Options& c, const poreshell::Report& r,
 }
 
 void print_warnings(const poreshell::Options& c, const poreshell::Report& r) {
-  if (!r.solver.reached_tolerance)
+  if (!r.solver.reached_tolerance && r.solver.stop_rule == "holes")
+    fmt::print(
+        stderr,
+        "poreshell: warning: stopped at --max-steps {} before the hole layout settled; raise --max-steps\n",
+        r.solver.steps);
+  else if (!r.solver.reached_tolerance)
     fmt::print(
         stderr,
         "poreshell: warning: stopped at --max-steps {} with e_c = {:.3e} above --tol {:g}; the pattern may "

@@ -126,6 +126,7 @@
   // ---- colours -------------------------------------------------------------------------------------
   const COLD = new THREE.Color('#3b6fd4'), GOOD = new THREE.Color('#2fa37a'), HOT = new THREE.Color('#e0523a');
   const BASE = new THREE.Color('#d8d2c8');
+  const OPEN = new THREE.Color('#3a3f47');  // a preview's open vertices away from every hole record
   function deviationColour(diameter) {
     const t = Math.max(-1, Math.min(1, (diameter / reference - 1) / SPAN));
     return t < 0 ? GOOD.clone().lerp(COLD, -t) : GOOD.clone().lerp(HOT, t);
@@ -209,6 +210,8 @@
   geometry.computeVertexNormals();
   geometry.computeBoundingBox();
   geometry.computeBoundingSphere();
+  // A preview's pattern: phi minus the pore level per vertex, open where positive (absent otherwise).
+  const pattern = data.mesh.pattern ? floats(data.mesh.pattern) : null;
   const colours = new Float32Array(positions.length);
   geometry.setAttribute('color', new THREE.BufferAttribute(colours, 3));
 
@@ -249,7 +252,9 @@
                 if (d2 < reach[n] * reach[n] && d2 < bestD) { bestD = d2; best = n; }
               }
             }
+        if (pattern && !(pattern[v / 3] > 0)) continue;
         if (best >= 0) holeColours[best].toArray(colours, v);
+        else if (pattern) OPEN.toArray(colours, v);
       }
     }
     geometry.attributes.color.needsUpdate = true;

@@ -24,6 +24,9 @@ PORESHELL_API PointsInput load_points(const std::filesystem::path& path, Unit un
 
 // A mesh in mm: .stl (binary), .3mf, .obj or .ply (binary) by extension.
 PORESHELL_API void save_mesh(const std::filesystem::path& path, const Mesh& mesh);
+// An output: a preview's (one with `pattern`) as a .ply with vertex colours, dark where the holes are
+// (other formats: its mesh alone); any other output as save_mesh(path, output.mesh).
+PORESHELL_API void save_mesh(const std::filesystem::path& path, const Output& output);
 // Checks before a long run that `path` can be written: its folder exists and it is not a folder.
 PORESHELL_API void check_output_path(const std::filesystem::path& path);
 // The same for a mesh, whose extension must also be one save_mesh writes.

@@ -23,6 +23,12 @@ enum class SolverKind {
   reference,  // the paper's scheme (2.3)-(2.4) by pointwise relaxation
 };
 enum class InnerIteration { gauss_seidel, jacobi };  // the reference solver's relaxation
+// When the run to steady state ends (docs/solver.md "Stop rules").
+enum class StopRule {
+  automatic,  // holes when the holes are asked in mm (hole_diameter, spacing, porosity), else paper
+  paper,      // the paper's: the consecutive change e_c < tolerance
+  holes,      // the hole layout has settled: count, centres and boundaries still over a window of steps
+};            // the reference solver's relaxation
 enum class PointRoute {
   direct,  // distance to discs fitted to the points (no PDE)
   paper,   // densify, then the segmentation equation (3.3)
@@ -96,8 +102,14 @@ struct Options {
   double initial_amplitude = 0.5;  // phi(x, 0) = phi_bar + amplitude * rand(x), rand in [-1, 1]
   std::uint64_t seed = 1;
 
+  // A preview: the pattern alone on the hole map's grid (never finer), stopped by the holes rule, no
+  // shell. Its output is the surface (a thin slab around it) with per-vertex `pattern` values and the
+  // band's holes.
+  bool preview = false;
+
   // The run.
-  double tolerance = 1e-3;  // stop when e_c < tolerance
+  StopRule stop = StopRule::automatic;
+  double tolerance = 1e-3;  // the paper's rule: stop when e_c < tolerance
   int max_steps = 2000;
   SolverKind solver = SolverKind::fast;
   double fast_tolerance = 1e-3;    // fast solver: max-norm error bound of each step's solves

@@ -117,7 +117,8 @@ struct Report {
     std::string name, inner_iteration;
     std::int64_t steps = 0, inner_iterations = 0, repeated_steps = 0;
     double final_ec = 0.0, tolerance = 0.0;
-    bool reached_tolerance = false, inner_converged = true;
+    bool reached_tolerance = false, inner_converged = true;  // reached_tolerance: the stop rule was met
+    std::string stop_rule;                                   // paper (e_c < tolerance) or holes
     std::optional<CoarseStart> coarse_start;
     double energy_first = 0.0, energy_last = 0.0;  // NaN when not evaluated
     std::vector<std::pair<int, double>> energy_trace;
@@ -137,12 +138,15 @@ struct Report {
     double input = 0.0, band = 0.0, solve = 0.0, mesh = 0.0, total = 0.0;
   } seconds;
   int threads = 0;
+  bool preview = false;  // a preview: the pattern alone, no shell (outputs carry `pattern`)
 };
 
 struct Output {
   double iso = 0.0;
   Mesh mesh;                // mm, input frame; closed, manifold, outward oriented
-  std::vector<Hole> holes;  // measured on `mesh`
+  std::vector<Hole> holes;  // measured on `mesh` (a preview: the band's spots, circularity 0)
+  // A preview only: the order parameter phi per vertex of `mesh`; open (a hole) where pattern > iso.
+  std::vector<double> pattern;
 };
 
 struct Result {

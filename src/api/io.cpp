@@ -8,6 +8,7 @@
 #include "input/placement.hpp"
 #include "input/vertex_field.hpp"
 #include "io/atomic_file.hpp"
+#include "io/file_format.hpp"
 #include "io/mesh_io.hpp"
 #include "io/mesh_writers.hpp"
 #include "io/point_io.hpp"
@@ -57,6 +58,18 @@ PointsInput load_points(const std::filesystem::path& path, Unit unit) {
 void save_mesh(const std::filesystem::path& path, const Mesh& mesh) {
   check_mesh_path(path);
   write_mesh(path, to_triangle_mesh(mesh));
+}
+
+void save_mesh(const std::filesystem::path& path, const Output& output) {
+  check_mesh_path(path);
+  if (output.pattern.empty() || lowercase_extension(path) != ".ply") {
+    save_mesh(path, output.mesh);
+    return;
+  }
+  TriangleMesh mesh;  // as it is: the pattern is per vertex
+  for (const Point& p : output.mesh.vertices) mesh.vertices.emplace_back(p[0], p[1], p[2]);
+  mesh.triangles.assign(output.mesh.triangles.begin(), output.mesh.triangles.end());
+  write_ply_pattern(path, mesh, output.pattern, output.iso);
 }
 
 void check_output_path(const std::filesystem::path& path) {

@@ -43,6 +43,14 @@ Result perforate(const Input& input, const Options& options, const RunControl& c
         out.iso = level.iso;
         out.mesh = to_public(level.mesh);
         level.mesh = {};  // one copy at a time: meshes run to gigabytes
+        out.pattern = std::move(level.pattern);
+        if (options.preview)
+          for (const BandHole& h : level.holes.holes)
+            out.holes.push_back({{h.centre.x(), h.centre.y(), h.centre.z()},
+                                 {h.normal.x(), h.normal.y(), h.normal.z()},
+                                 h.diameter,
+                                 0.0,
+                                 h.nearest});
         result.outputs.push_back(std::move(out));
       }
     });

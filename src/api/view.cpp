@@ -3,6 +3,7 @@
 #include <variant>
 
 #include "core/error.hpp"
+#include "geometry/point_tree.hpp"
 #include "input/placement.hpp"
 #include "io/display_mesh.hpp"
 #include "io/html_viewer.hpp"
@@ -28,6 +29,31 @@ std::vector<std::vector<Vec3>> boundary_lines(const Input* input) {
   return lines;
 }
 
+TriangleMesh as_is(const Mesh& mesh) {
+  TriangleMesh out;
+  out.vertices.reserve(mesh.vertices.size());
+  for (const Point& p : mesh.vertices) out.vertices.push_back(vec(p));
+  out.triangles.assign(mesh.triangles.begin(), mesh.triangles.end());
+  return out;
+}
+
+// A preview's pattern (minus the pore level) on the shown mesh: a reduced mesh's vertex takes the
+// value of the nearest vertex of the full one.
+std::vector<float> display_pattern(const TriangleMesh& full, const TriangleMesh& shown,
+                                   const std::vector<double>& pattern, double iso) {
+  if (pattern.size() != full.vertices.size())
+    throw Error(ErrorCode::invalid_option, "the output's pattern does not match its mesh", "pattern");
+  std::vector<float> values(shown.vertices.size());
+  if (shown.vertices.size() == full.vertices.size()) {
+    for (std::size_t v = 0; v < values.size(); ++v) values[v] = static_cast<float>(pattern[v] - iso);
+    return values;
+  }
+  const PointTree tree(full.vertices);
+  for (std::size_t v = 0; v < values.size(); ++v)
+    values[v] = static_cast<float>(pattern[tree.nearest(shown.vertices[v]).first] - iso);
+  return values;
+}
+
 }  // namespace
 
 void save_html(const std::filesystem::path& path, const Result& result, const Options& options,
@@ -39,7 +65,10 @@ void save_html(const std::filesystem::path& path, const Result& result, const Op
   const Output& out = result.outputs[view.output];
   ViewerData data;
   data.title = view.title.empty() ? result.report.input.name : view.title;
-  data.mesh = reduce_for_display(to_triangle_mesh(out.mesh), view.max_triangles);
+  // A preview's mesh as it is (its pattern is per vertex); any other cleaned as an input would be.
+  const TriangleMesh mesh = out.pattern.empty() ? to_triangle_mesh(out.mesh) : as_is(out.mesh);
+  data.mesh = reduce_for_display(mesh, view.max_triangles);
+  if (!out.pattern.empty()) data.pattern = display_pattern(mesh, data.mesh, out.pattern, out.iso);
   for (const Hole& h : out.holes)
     data.holes.push_back({vec(h.centre), vec(h.normal), h.diameter, h.circularity, h.nearest});
   if (result.report.plan) data.requested_diameter_mm = result.report.plan->diameter;

@@ -86,6 +86,9 @@ void check(const ViewerData& data) {
   for (const ViewerHole& h : data.holes)
     if (!finite(h.centre) || !finite(h.normal) || !std::isfinite(h.diameter_mm))
       throw InputError("a hole for the viewer has a non-finite centre, normal or diameter");
+  if (!data.pattern.empty() && data.pattern.size() != mesh.vertices.size())
+    throw InputError("the viewer's pattern has " + std::to_string(data.pattern.size()) + " values for " +
+                     std::to_string(mesh.vertices.size()) + " vertices");
   if (!(data.density_g_per_cm3 > 0.0)) throw InputError("the viewer's density must be positive (g/cm^3)");
 }
 
@@ -97,6 +100,9 @@ nlohmann::json page_data(const ViewerData& data) {
   indices.reserve(12 * data.mesh.triangles.size());
   for (const auto& t : data.mesh.triangles)
     for (const std::int32_t i : t) append_u32(indices, static_cast<std::uint32_t>(i));
+  std::string pattern;
+  pattern.reserve(4 * data.pattern.size());
+  for (const float p : data.pattern) append_f32(pattern, p);
   // Nine floats a hole, in the order viewer.js reads them.
   for (const ViewerHole& h : data.holes) {
     append_f32(holes, h.centre);
@@ -126,7 +132,8 @@ nlohmann::json page_data(const ViewerData& data) {
            {{"vertices", data.mesh.vertices.size()},
             {"triangles", data.mesh.triangles.size()},
             {"positions", base64(positions)},
-            {"indices", base64(indices)}}},
+            {"indices", base64(indices)},
+            {"pattern", data.pattern.empty() ? json(nullptr) : json(base64(pattern))}}},
           {"holes", {{"count", data.holes.size()}, {"data", base64(holes)}}},
           {"rim_width_mm", data.rim_width_mm},
           {"rim_loops", rims},

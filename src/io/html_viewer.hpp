@@ -43,6 +43,9 @@ struct ViewerData {
   // The display mesh, mm, in the input's frame (the frame of --keep-out): the page reports clicked
   // points in these coordinates. At most html_viewer_max_triangles triangles.
   TriangleMesh mesh;
+  // Optional (a preview): per vertex of `mesh`, the pattern's value minus the pore level; the page
+  // paints the vertices where it is positive as holes.
+  std::vector<float> pattern;
   std::vector<ViewerHole> holes;
   std::optional<double> requested_diameter_mm;  // holes are coloured by their deviation from it
                                                 // (from the holes' mean diameter without it)

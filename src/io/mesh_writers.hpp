@@ -3,7 +3,10 @@
 // little-endian PLY). Coordinates are written as millimetres (3MF states it in the file; the others
 // have no unit field, and slicers assume millimetres). Every write is atomic: no partial file.
 
+#include <array>
+#include <cstdint>
 #include <filesystem>
+#include <span>
 #include <string>
 
 #include "geometry/mesh.hpp"
@@ -23,5 +26,12 @@ void write_mesh(const std::filesystem::path& path, const TriangleMesh& mesh);
 void write_3mf(const std::filesystem::path& path, const TriangleMesh& mesh);
 void write_obj(const std::filesystem::path& path, const TriangleMesh& mesh);
 void write_ply_binary(const std::filesystem::path& path, const TriangleMesh& mesh);
+
+// A preview's surface as a binary PLY with vertex colours (red, green, blue bytes): dark where
+// pattern > level (a hole), light elsewhere, blended over |pattern - level| < 0.1.
+void write_ply_pattern(const std::filesystem::path& path, const TriangleMesh& mesh,
+                       std::span<const double> pattern, double level);
+// The colour write_ply_pattern gives a vertex.
+std::array<std::uint8_t, 3> pattern_colour(double value, double level);
 
 }  // namespace poreshell

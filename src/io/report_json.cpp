@@ -154,6 +154,7 @@ json to_json(const Report& r, std::span<const Output> outputs) {
         {"steps", r.solver.steps},
         {"final_ec", r.solver.final_ec},
         {"reached_tolerance", r.solver.reached_tolerance},
+        {"stop_rule", r.solver.stop_rule},
         {"inner_converged", r.solver.inner_converged},
         {"inner_iterations", r.solver.inner_iterations},
         {"repeated_steps", r.solver.repeated_steps},
@@ -187,6 +188,7 @@ json to_json(const Report& r, std::span<const Output> outputs) {
         {"mesh", r.seconds.mesh},
         {"total", r.seconds.total}}},
       {"threads", r.threads},
+      {"preview", r.preview},
   };
 }
 

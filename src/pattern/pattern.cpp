@@ -65,6 +65,7 @@ HoleStats hole_statistics(const NarrowBand& band, std::span<const double> phi, d
   };
   std::vector<BandHole> all;
   std::vector<std::int64_t> voxels;
+  std::vector<Vec3> closest_sum, reference;  // per hole: sum of closest points; the normal's orientation
   double open_area = 0.0, total_area = 0.0;
   for (std::size_t v = 0; v < label.size(); ++v) {
     const double area = area_of(v);
@@ -74,9 +75,20 @@ HoleStats hole_statistics(const NarrowBand& band, std::span<const double> phi, d
     if (l >= all.size()) {
       all.resize(l + 1);
       voxels.resize(l + 1, 0);
+      closest_sum.resize(l + 1, Vec3::Zero());
+      reference.resize(l + 1, Vec3::Zero());
     }
-    all[l].centroid += band.grid().position(band.voxels()[v]);
+    const Vec3 x = band.grid().position(band.voxels()[v]);
+    const Vec3 cp = band.closest_point(v);
+    all[l].centroid += x;
     all[l].area += area;
+    closest_sum[l] += cp;
+    // x - cp points away from the surface; the distance's sign turns it outward where there is an
+    // inside. On an open surface the two sides are aligned with the hole's first clear offset.
+    Vec3 offset = band.distance()[v] < 0.0 ? Vec3(cp - x) : Vec3(x - cp);
+    if (reference[l].isZero() && offset.norm() > 0.25 * h) reference[l] = offset;
+    if (offset.dot(reference[l]) < 0.0) offset = -offset;
+    all[l].normal += offset;
     ++voxels[l];
     open_area += area;
   }
@@ -87,6 +99,10 @@ HoleStats hole_statistics(const NarrowBand& band, std::span<const double> phi, d
     BandHole& hole = all[l];
     hole.centroid /= static_cast<double>(voxels[l]);
     hole.diameter = 2.0 * std::sqrt(hole.area / std::numbers::pi);
+    const double length = hole.normal.norm();
+    hole.normal = length > 0.0 ? Vec3(hole.normal / length) : Vec3::Zero();
+    const Vec3 on_surface = closest_sum[l] / static_cast<double>(voxels[l]);
+    hole.centre = hole.centroid - (hole.centroid - on_surface).dot(hole.normal) * hole.normal;
     centroids.push_back(hole.centroid);
   }
   const std::vector<double> nearest =
@@ -94,6 +110,7 @@ HoleStats hole_statistics(const NarrowBand& band, std::span<const double> phi, d
   std::vector<double> diameters, spacings;
   for (std::size_t l = 0; l < all.size(); ++l) {
     if (counted && !counted(all[l].centroid)) continue;
+    if (centroids.size() >= 2) all[l].nearest = nearest[l];
     s.holes.push_back(all[l]);
     diameters.push_back(all[l].diameter);
     if (centroids.size() >= 2) spacings.push_back(nearest[l]);

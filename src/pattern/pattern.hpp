@@ -30,9 +30,15 @@ SpotStats spot_statistics(const NarrowBand& band, std::span<const double> phi, d
 // The pores as a printer sees them: each spot's area on the surface (its band voxels times h^3 over
 // the band's thickness 2 delta) and the diameter of the disc of that area, in the grid's length unit.
 struct BandHole {
-  Vec3 centroid = Vec3::Zero();
+  Vec3 centroid = Vec3::Zero();  // of the spot's voxels
   double area = 0.0;
   double diameter = 0.0;
+  // The surface's unit normal at the hole (outward where the distance is signed; for an open surface
+  // one of the two, the same for every hole of a connected sheet only by chance), and the centroid
+  // moved onto the surface along it.
+  Vec3 normal = Vec3::Zero();
+  Vec3 centre = Vec3::Zero();
+  double nearest = 0.0;  // centroid to the nearest other hole's centroid (0 when alone)
 };
 
 struct HoleStats {

@@ -1,5 +1,6 @@
 #include "pipeline/pipeline.hpp"
 
+#include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include <sys/resource.h>
@@ -46,8 +47,10 @@ HoleStats hole_stats_mm(const NarrowBand& band, std::span<const double> phi, dou
   HoleStats s = hole_statistics(band, phi, level);
   for (BandHole& hole : s.holes) {
     hole.centroid = placed.to_mm(hole.centroid);
+    hole.centre = placed.to_mm(hole.centre);
     hole.area *= mm_per_grid * mm_per_grid;
     hole.diameter *= mm_per_grid;
+    hole.nearest *= mm_per_grid;
   }
   s.diameter_mean *= mm_per_grid;
   s.spacing_mean *= mm_per_grid;
@@ -74,6 +77,28 @@ ShellSamples sample_printable_shell(const Options& c, const PlacedSurface& place
   return samples;
 }
 
+// A preview's output: the surface as a thin slab of the band ({|psi| < h}, closed at the band's grid
+// resolution) with phi at each vertex, and the band's holes.
+void preview_output(double level, const PlacedSurface& placed, const NarrowBand& band,
+                    std::span<const double> phi, PipelineResult& result, RunMonitor& monitor) {
+  monitor.stage("mesh");
+  const auto t = std::chrono::steady_clock::now();
+  MeshOutput out;
+  out.iso = level;
+  out.holes = hole_stats_mm(band, phi, level, placed);
+  out.spots_at_iso = static_cast<std::int64_t>(out.holes.holes.size());
+  out.mesh = surface_slab_mesh(band);
+  monitor.check();
+  out.pattern.resize(out.mesh.vertices.size());
+  tbb::parallel_for(std::size_t{0}, out.mesh.vertices.size(), [&](std::size_t v) {
+    out.pattern[v] = interpolation_stencil(band, out.mesh.vertices[v]).interpolate(phi);
+  });
+  for (Vec3& v : out.mesh.vertices) v = placed.to_mm(v);
+  result.solid.spacing_mm = band.grid().h() * placed.mm_per_grid();
+  result.meshes.push_back(std::move(out));
+  result.seconds_mesh = seconds_since(t);
+}
+
 }  // namespace
 
 PipelineResult run_pipeline(const Input& input, const Options& given, RunMonitor& monitor) {
@@ -84,9 +109,12 @@ PipelineResult run_pipeline(const Input& input, const Options& given, RunMonitor
   result.threads = tbb::this_task_arena::max_concurrency();
   Options options = given;
   result.requested_holes = {given.hole_diameter, given.spacing, given.porosity};
+  if (options.preview) options.coarse_start = false;
   if (holes_in_mm(options)) {
     result.plan = plan_pattern(result.requested_holes);
     options.voxel_size = choose_voxel_size(options.voxel_size, *result.plan);
+    // A preview runs on the pattern's own grid, never finer (so no coarse start).
+    if (options.preview) options.voxel_size = std::max(options.voxel_size, result.plan->voxel_size);
     options.iso = {result.plan->level};
     options.phi_bar = result.plan->phi_bar;
   }
@@ -145,8 +173,16 @@ PipelineResult run_pipeline(const Input& input, const Options& given, RunMonitor
   result.solver_bytes = solved.solver_bytes;
   result.seconds_solve = seconds_since(t);
   result.peak_rss_after_solve = peak_rss_bytes();
+  result.stop_rule = solved.stop_rule;
   std::vector<double> phi = std::move(solved.phi);
   result.spots = spot_statistics(band, phi, 0.0);
+  if (options.preview) {
+    preview_output(options.iso.front(), placed, band, phi, result, monitor);
+    result.seconds_total = seconds_since(start);
+    result.peak_rss_total = peak_rss_bytes();
+    monitor.advance(1.0, {}, 0, true);
+    return result;
+  }
 
   // Build and check every mesh before handing any out.
   monitor.stage("shell");

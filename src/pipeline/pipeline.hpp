@@ -40,6 +40,7 @@ struct MeshOutput {
   PartsSummary parts;                       // what keep_main_parts removed (none with keep_fragments)
   std::int64_t spots_at_iso = 0;            // connected components of {phi > iso} on the band
   std::int64_t pores_from_euler = 0;        // (chi of the unperforated solid - chi) / 2
+  std::vector<double> pattern;              // a preview: phi per vertex of `mesh`
 };
 
 // The printable solid as built (lengths in mm, the unit of every output).
@@ -67,6 +68,7 @@ struct PipelineResult {
   std::optional<GradingSummary> grading;  // when graded
   std::string solver_name;
   std::string inner_iteration;
+  StopRule stop_rule = StopRule::paper;     // the rule the run stopped by
   RunResult run;                            // on this grid
   std::optional<CoarseLevel> coarse_start;  // the run on the pattern's grid before it, if any
   SpotStats spots;                          // at phi > 0

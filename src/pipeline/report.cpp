@@ -78,6 +78,8 @@ Report make_report(const PipelineResult& r, const Options& options) {
   s.final_ec = r.run.final_ec;
   s.tolerance = options.tolerance;
   s.reached_tolerance = r.run.reached_tolerance;
+  s.stop_rule = r.stop_rule == StopRule::holes ? "holes" : "paper";
+  report.preview = options.preview;
   s.inner_converged = r.run.inner_converged;
   if (const auto& c = r.coarse_start)
     s.coarse_start = Report::CoarseStart{c->dims,

@@ -1,5 +1,6 @@
 #include "shell/narrow_volume.hpp"
 
+#include <cmath>
 #include <vector>
 
 #include "geometry/isosurface.hpp"
@@ -22,6 +23,13 @@ auto with_narrow_volume_field(const NarrowBand& band, std::span<const double> ph
 TriangleMesh narrow_volume_mesh(const NarrowBand& band, std::span<const double> phi, double iso) {
   return with_narrow_volume_field(band, phi,
                                   [&](const SparseField& f) { return extract_isosurface(f, iso); });
+}
+
+TriangleMesh surface_slab_mesh(const NarrowBand& band) {
+  std::vector<double> slab(band.size());
+  const double h = band.grid().h();
+  for (std::size_t v = 0; v < slab.size(); ++v) slab[v] = std::abs(band.distance()[v]) - h;
+  return narrow_volume_mesh(band, slab, 0.0);
 }
 
 std::int64_t narrow_volume_euler(const NarrowBand& band, std::span<const double> phi, double iso) {

@@ -26,6 +26,7 @@ std::vector<double> coarse_start(const Surface& surface, const Grid& grid, const
     if (!level.mean_field.empty()) solver.set_mean_field(std::move(level.mean_field));
     RunOptions run = options.run;
     run.tolerance *= kCoarseTolerance;
+    if (options.stop) run.stop = options.stop(coarse);
     report.run = run_to_steady_state(solver, level.phi, nullptr, run);
   }
   report.dims = grid.dims();

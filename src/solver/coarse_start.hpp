@@ -38,6 +38,8 @@ struct CoarseStartOptions {
   std::function<LevelStart(const NarrowBand&)> start;
   RunOptions run;  // the coarse run's; its tolerance is tightened (kCoarseTolerance)
   FastOptions fast;
+  // The coarse run's own stop rule for its band (RunOptions::stop), when the run is not the paper's.
+  std::function<std::function<bool(int, std::span<const double>)>(const NarrowBand&)> stop;
 };
 
 // The coarse run ends at this share of the fine run's tolerance. The paper's e_c = 1e-3 is reached in

@@ -27,6 +27,18 @@ double solve_fraction(double first_ec, double ec, double tolerance, int step, in
 
 }  // namespace
 
+StopRule resolve_stop_rule(const Options& c, bool hole_plan) {
+  if (c.stop != StopRule::automatic) return c.stop;
+  return hole_plan || c.preview ? StopRule::holes : StopRule::paper;
+}
+
+HoleStopOptions hole_stop_options(const Options& c, double min_spread) {
+  HoleStopOptions o;
+  o.level = c.iso.empty() ? 0.0 : c.iso.front();
+  o.min_spread = min_spread;
+  return o;
+}
+
 void choose_model(const Options& c, const std::optional<PatternPlan>& plan, double mm_per_grid, double h,
                   ModelParameters& model, double& dt) {
   if (!plan) {
@@ -64,18 +76,34 @@ SolveResult solve_pattern(const Options& c, const std::optional<PatternPlan>& pl
   // Separated phases span about [-1, 1]; the decayed noise of the quiet phase spans far less.
   if (uniform_state_unstable(result.model.alpha, result.model.epsilon, result.model.phi_bar))
     run_options.min_spread = 1.0;
+  result.stop_rule = resolve_stop_rule(c, plan.has_value());
+  const bool holes_rule = result.stop_rule == StopRule::holes;
+  std::shared_ptr<HoleStop> current_stop;  // the holes rule of the run under way
+  const auto make_stop = [&](const NarrowBand& b) {
+    current_stop = std::make_shared<HoleStop>(b, hole_stop_options(c, run_options.min_spread));
+    return [stop = current_stop](int step, std::span<const double> phi) { return stop->settled(step, phi); };
+  };
   double first_ec = 0.0;
   const auto report_step = [&](const StepProgress& p) {
     if (p.step == 1) first_ec = p.ec;
     char energy[48] = "";
     if (!std::isnan(p.energy)) std::snprintf(energy, sizeof energy, "  energy %.6e", p.energy);
-    char line[192];
-    std::snprintf(line, sizeof line, "%sstep %5d  e_c %.3e%s  inner %lld iterations%s",
+    char holes[96] = "";
+    if (current_stop && current_stop->last_check().step == p.step) {
+      const HoleStopCheck& h = current_stop->last_check();
+      std::snprintf(holes, sizeof holes, "  holes %lld shift %.3f flipped %.1e",
+                    static_cast<long long>(h.holes), h.shift, h.flipped);
+    }
+    char line[256];
+    std::snprintf(line, sizeof line, "%sstep %5d  e_c %.3e%s  inner %lld iterations%s%s",
                   p.coarse ? "coarse " : "", p.step, p.ec, energy,
                   static_cast<long long>(p.inner.inner_iterations),
-                  p.inner.converged ? "" : " (not converged)");
+                  p.inner.converged ? "" : " (not converged)", holes);
     // Every step is reported (a step takes milliseconds to seconds); the front end chooses what to show.
-    monitor.advance(solve_fraction(first_ec, p.ec, c.tolerance, p.step, c.max_steps), line, p.step, true);
+    const double fraction =
+        current_stop ? std::max(current_stop->progress(), static_cast<double>(p.step) / c.max_steps)
+                     : solve_fraction(first_ec, p.ec, c.tolerance, p.step, c.max_steps);
+    monitor.advance(fraction, line, p.step, true);
   };
   run_options.on_step = report_step;
   const bool fast = c.solver == SolverKind::fast;
@@ -83,10 +111,11 @@ SolveResult solve_pattern(const Options& c, const std::optional<PatternPlan>& pl
       fast && c.coarse_start ? pattern_grid(*placed.surface, grid.h(), result.model.epsilon) : std::nullopt;
   LevelStart fine_start = level_start(band, !coarse_grid);
   if (coarse_grid) {
-    CoarseStartOptions coarse{[&](const NarrowBand& b) { return level_start(b, true); }, run_options, {}};
+    CoarseStartOptions coarse{[&](const NarrowBand& b) { return level_start(b, true); }, run_options, {}, {}};
     coarse.fast.tolerance = c.fast_tolerance;
     coarse.fast.min_stabilisation = c.min_stabilisation;
     coarse.run.energy_every = 0;
+    if (holes_rule) coarse.stop = make_stop;
     coarse.run.on_step = [&](const StepProgress& p) {
       StepProgress tagged = p;
       tagged.coarse = true;
@@ -121,6 +150,7 @@ SolveResult solve_pattern(const Options& c, const std::optional<PatternPlan>& pl
   // energy_every 0 skips it for large runs.
   std::optional<EnergyFunctional> energy;
   if (c.energy_every > 0) energy.emplace(band, result.model);
+  if (holes_rule) run_options.stop = make_stop(band);
   result.run = run_to_steady_state(*solver, phi, energy ? &*energy : nullptr, run_options);
   // The solver's hierarchy and the energy's factorisation are done with: free them before meshing,
   // the stage with the largest footprint.

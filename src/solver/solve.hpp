@@ -14,6 +14,7 @@
 #include "pattern/hole_map.hpp"
 #include "poreshell/options.hpp"
 #include "solver/coarse_start.hpp"
+#include "solver/hole_stop.hpp"
 #include "solver/model.hpp"
 #include "solver/time_stepping.hpp"
 
@@ -27,7 +28,15 @@ struct SolveResult {
   std::optional<CoarseLevel> coarse_start;  // the run on the pattern's grid before it, if any
   std::size_t solver_bytes = 0;             // the solver's own arrays
   std::vector<double> phi;                  // on the band, at the end
+  StopRule stop_rule = StopRule::paper;     // the rule that ended the run (never automatic)
 };
+
+// The rule a run stops by: Options::stop, with automatic resolved (holes for a hole plan or a preview,
+// else the paper's).
+StopRule resolve_stop_rule(const Options& options, bool hole_plan);
+
+// The holes rule's settings for this run (docs/solver.md "Stop rules").
+HoleStopOptions hole_stop_options(const Options& options, double min_spread);
 
 // Per band voxel how solid the wall must stay (pattern/solid_zones.hpp), for a band and epsilon.
 using SolidZones = std::function<std::vector<double>(const NarrowBand&, double epsilon)>;

@@ -29,6 +29,7 @@ RunResult run_to_steady_state(TimeStepper& stepper, std::vector<double>& phi, co
     result.energy_first = (*energy)(phi);
     result.energy_trace.emplace_back(0, result.energy_first);
   }
+  if (options.stop) options.stop(0, phi);
   std::vector<double> previous;
   for (int step = 1; step <= options.max_steps; ++step) {
     previous = phi;
@@ -41,7 +42,7 @@ RunResult run_to_steady_state(TimeStepper& stepper, std::vector<double>& phi, co
     result.inner_iterations += progress.inner.inner_iterations;
     if (progress.inner.repeats > 0) ++result.repeated_steps;
     result.inner_converged = result.inner_converged && progress.inner.converged;
-    result.reached_tolerance = progress.ec < options.tolerance;
+    result.reached_tolerance = options.stop ? options.stop(step, phi) : progress.ec < options.tolerance;
     if (result.reached_tolerance && options.min_spread > 0.0) {
       const auto [lo, hi] = std::minmax_element(phi.begin(), phi.end());
       if (*hi - *lo < options.min_spread) {

@@ -5,6 +5,7 @@
 #include <functional>
 #include <limits>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "solver/energy.hpp"
@@ -29,6 +30,9 @@ struct RunOptions {
   // tolerance in that quiet phase; stopping there returns no pattern at all. 0: off.
   double min_spread = 0.0;
   std::function<void(const StepProgress&)> on_step;
+  // Another stop rule in place of e_c < tolerance (e.g. solver/hole_stop.hpp): called with phi before
+  // the first step (step 0) and after each step; true ends the run (reached_tolerance then says so).
+  std::function<bool(int step, std::span<const double> phi)> stop;
 };
 
 struct RunResult {

@@ -1,0 +1,91 @@
+// The holes rule against the paper's on a small sphere, and the preview against the full run
+// (docs/solver.md "Stop rules"; bench/stop_rules.cpp runs the 5-seed comparison on larger cases).
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "pipeline/pipeline.hpp"
+#include "solver/hole_stop.hpp"
+
+using namespace poreshell;
+
+namespace {
+
+std::vector<Vec3> centroids(const HoleStats& s) {
+  std::vector<Vec3> out;
+  for (const BandHole& h : s.holes) out.push_back(h.centroid);
+  return out;
+}
+
+Options small_sphere_holes() {
+  Options o;
+  o.hole_diameter = 6.0;
+  o.spacing = 10.0;
+  o.seed = 3;
+  return o;
+}
+
+}  // namespace
+
+// The rule's acceptance on one seed of a small sphere (bench/stop_rules.cpp runs the 5-seed comparison):
+// the same holes as the paper's rule within 2% in count and diameter, each within 0.1 spacing, in fewer
+// steps.
+TEST(StopRules, HolesRuleGivesThePaperRulesHolesOnASmallSphere) {
+  Options paper = small_sphere_holes();
+  paper.preview = true;
+  paper.stop = StopRule::paper;
+  Options holes = paper;
+  holes.stop = StopRule::holes;
+  const PipelineResult a = run_pipeline(sphere(25.0), paper, unmonitored());
+  const PipelineResult b = run_pipeline(sphere(25.0), holes, unmonitored());
+  ASSERT_EQ(a.stop_rule, StopRule::paper);
+  ASSERT_EQ(b.stop_rule, StopRule::holes);
+  ASSERT_TRUE(a.run.reached_tolerance);
+  ASSERT_TRUE(b.run.reached_tolerance);
+  const HoleStats& pa = a.meshes.at(0).holes;
+  const HoleStats& pb = b.meshes.at(0).holes;
+  ASSERT_GT(pa.holes.size(), 50u);
+  EXPECT_LT(b.run.steps, a.run.steps);
+  const double n = static_cast<double>(pa.holes.size());
+  EXPECT_LE(std::abs(static_cast<double>(pb.holes.size()) - n), 0.02 * n);
+  EXPECT_NEAR(pb.diameter_mean, pa.diameter_mean, 0.02 * pa.diameter_mean);
+  EXPECT_LE(largest_nearest_distance(centroids(pb), centroids(pa)), 0.1 * pa.spacing_mean);
+  EXPECT_LE(largest_nearest_distance(centroids(pa), centroids(pb)), 0.1 * pa.spacing_mean);
+}
+
+// The preview against the full run (shell, paper's rule) with the same seed: count within 3%, each
+// preview hole within 0.15 spacing of a full-run hole; and its output is the surface with the pattern.
+TEST(StopRules, PreviewHolesAreTheFullRunsHoles) {
+  Options full = small_sphere_holes();
+  full.stop = StopRule::paper;
+  Options preview = small_sphere_holes();
+  preview.preview = true;
+  const PipelineResult f = run_pipeline(sphere(25.0), full, unmonitored());
+  const PipelineResult p = run_pipeline(sphere(25.0), preview, unmonitored());
+  const HoleStats& hf = f.meshes.at(0).holes;
+  const HoleStats& hp = p.meshes.at(0).holes;
+  ASSERT_GT(hf.holes.size(), 50u);
+  EXPECT_EQ(p.stop_rule, StopRule::holes);
+  const double n = static_cast<double>(hf.holes.size());
+  EXPECT_LE(std::abs(static_cast<double>(hp.holes.size()) - n), 0.03 * n);
+  EXPECT_LE(largest_nearest_distance(centroids(hp), centroids(hf)), 0.15 * hf.spacing_mean);
+  // The preview's surface: within a voxel or two of the sphere, one value per vertex, holes open.
+  const MeshOutput& out = p.meshes.at(0);
+  ASSERT_EQ(out.pattern.size(), out.mesh.vertices.size());
+  const double h = p.solid.spacing_mm;
+  Vec3 centre = Vec3::Zero();
+  for (const Vec3& x : out.mesh.vertices) centre += x / static_cast<double>(out.mesh.vertices.size());
+  std::size_t open = 0;
+  for (std::size_t v = 0; v < out.mesh.vertices.size(); ++v) {
+    EXPECT_NEAR((out.mesh.vertices[v] - centre).norm(), 25.0, 2.0 * h) << v;
+    open += out.pattern[v] > out.iso ? 1 : 0;
+  }
+  const double share = static_cast<double>(open) / static_cast<double>(out.pattern.size());
+  EXPECT_NEAR(share, hp.porosity, 0.1);
+  for (const BandHole& hole : hp.holes) {
+    EXPECT_NEAR((hole.centre - centre).norm(), 25.0, 0.5 * h);
+    EXPECT_GT(hole.normal.dot((hole.centre - centre).normalized()), 0.95);  // outward
+  }
+}
