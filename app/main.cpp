@@ -52,9 +52,10 @@ void add_stop_flags(CLI::App& app, poreshell::Options& options) {
   app.add_flag("--preview", options.preview,
                "the pattern alone, fast: the surface with its holes painted on (.ply with vertex colours, "
                "--html), no shell; stopped as soon as the hole layout has settled");
-  app.add_option("--stop", options.stop,
-                 "when the run ends: holes (the hole layout has settled; the default with --hole-diameter, "
-                 "--spacing or --porosity) or paper (e_c < --tol; the default otherwise)")
+  app.add_option(
+         "--stop", options.stop,
+         "when the run ends: paper (e_c < --tol; the default) or holes (the hole count and boundaries "
+         "have settled; the default of --preview, faster, the layout may still glide a little)")
       ->transform(CLI::CheckedTransformer(kStopRules))
       ->default_str("auto");
 }

@@ -25,10 +25,10 @@ enum class SolverKind {
 enum class InnerIteration { gauss_seidel, jacobi };  // the reference solver's relaxation
 // When the run to steady state ends (docs/solver.md "Stop rules").
 enum class StopRule {
-  automatic,  // holes when the holes are asked in mm (hole_diameter, spacing, porosity), else paper
+  automatic,  // holes for a preview, else paper (the holes rule's layout still moves: docs/solver.md)
   paper,      // the paper's: the consecutive change e_c < tolerance
   holes,      // the hole layout has settled: count, centres and boundaries still over a window of steps
-};            // the reference solver's relaxation
+};
 enum class PointRoute {
   direct,  // distance to discs fitted to the points (no PDE)
   paper,   // densify, then the segmentation equation (3.3)

@@ -31,9 +31,9 @@ struct SolveResult {
   StopRule stop_rule = StopRule::paper;     // the rule that ended the run (never automatic)
 };
 
-// The rule a run stops by: Options::stop, with automatic resolved (holes for a hole plan or a preview,
-// else the paper's).
-StopRule resolve_stop_rule(const Options& options, bool hole_plan);
+// The rule a run stops by: Options::stop, with automatic resolved (holes for a preview, else the
+// paper's).
+StopRule resolve_stop_rule(const Options& options);
 
 // The holes rule's settings for this run (docs/solver.md "Stop rules").
 HoleStopOptions hole_stop_options(const Options& options, double min_spread);
