@@ -473,6 +473,7 @@ std::optional<HoleRecord> trace_hole(const TriangleMesh& mesh, const VertexTrian
 
 std::vector<std::optional<HoleRecord>> cut_holes(const TriangleMesh& mesh, std::span<const HoleSeed> seeds,
                                                  const MidWall* mid_wall) {
+  if (seeds.empty()) return {};  // no pass over the triangles
   std::vector<CutSurface> cuts;
   cuts.reserve(seeds.size());
   for (const HoleSeed& seed : seeds) cuts.emplace_back(seed, nullptr);
