@@ -213,6 +213,33 @@ HoleStats holes_in_mm(const NarrowBand& band, std::span<const double> phi, doubl
   return s;
 }
 
+// The hole table of one output (mm): each band hole's centroid seeds a cut through the wall's middle (the
+// surface itself for the narrow volume), reaching its band diameter and two of the solid's cells beyond.
+HoleTable hole_table(const TriangleMesh& mesh_mm, const HoleStats& holes_mm, const PipelineConfig& c,
+                     const PlacedSurface& placed, const PipelineResult& result, const SideFunction& side) {
+  if (holes_mm.holes.empty()) return {};
+  const double mm = placed.mm_per_grid();
+  // Normals point outward: a mesh's winding number also where a centred wall did not need it.
+  std::optional<WindingNumber> winding;
+  SideFunction outward = side;
+  if (!outward && placed.mesh) {
+    winding.emplace(*placed.mesh);
+    outward = [&w = *winding, step = 0.25 * result.h](const Vec3& x, const Vec3& cp) {
+      return side_of_surface(w, x, cp, step);
+    };
+  }
+  const SurfaceMidWall mid_wall(*placed.surface, result.h, result.solid.wall_mm / mm,
+                                c.mode == "shell" ? parse_wall_offset(c.offset) : WallOffset::centered,
+                                outward, mm, placed.to_mm(Vec3::Zero()));
+  std::vector<Vec3> centres;
+  std::vector<double> reach;
+  for (const Hole& hole : holes_mm.holes) {
+    centres.push_back(hole.centroid);
+    reach.push_back(hole.diameter + 2.0 * result.solid.spacing_mm);
+  }
+  return measure_holes(mesh_mm, seeds_near(mid_wall, centres, reach), &mid_wall);
+}
+
 // A scalar painted on the input mesh (a PLY vertex property), as a function of a point in mm: its value
 // at the closest point on the file's faces. Read before the solve, so a bad file fails at once.
 std::function<double(const Vec3&)> input_field(const PipelineConfig& c, const PlacedSurface& placed,
@@ -519,6 +546,7 @@ PipelineResult run_pipeline(const PipelineConfig& given) {
     out.pores_from_euler = (result.unperforated_euler - out.topology.euler_characteristic) / 2;
     check_printable(out.topology, out.iso);
     if (shell_mode) out.wall = measure_wall(meshes.back(), probes[level], 4.0 * result.solid.wall_mm);
+    out.hole_table = hole_table(meshes.back(), out.holes, config, placed, result, side.side);
   }
   for (std::size_t i = 0; i < meshes.size(); ++i) write_mesh(result.meshes[i].path, meshes[i]);
   result.seconds_mesh = seconds_since(t);

@@ -15,6 +15,7 @@
 #include "pattern/grading.hpp"
 #include "pattern/hole_map.hpp"
 #include "pattern/pattern.hpp"
+#include "shell/hole_table.hpp"
 #include "shell/mesh_decimate.hpp"
 #include "shell/wall_measure.hpp"
 #include "solver/coarse_start.hpp"
@@ -77,6 +78,7 @@ struct MeshOutput {
   WallMeasurement wall;                     // across the written solid's wall, mm (shell mode)
   std::int64_t spots_at_iso = 0;            // connected components of {phi > iso} on the band
   std::int64_t pores_from_euler = 0;        // (chi of the unperforated solid - chi) / 2
+  HoleTable hole_table;                     // each hole measured on the written mesh, mm
 };
 
 struct InputSummary {

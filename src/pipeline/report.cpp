@@ -6,6 +6,13 @@ nlohmann::json to_json(const PipelineResult& r) {
   using nlohmann::json;
   json meshes = json::array();
   for (const MeshOutput& m : r.meshes) {
+    json hole_table = json::array();
+    for (const HoleRecord& h : m.hole_table.holes)
+      hole_table.push_back({{"centre", {h.centre.x(), h.centre.y(), h.centre.z()}},
+                            {"normal", {h.normal.x(), h.normal.y(), h.normal.z()}},
+                            {"diameter", h.diameter},
+                            {"circularity", h.circularity},
+                            {"nearest", h.nearest}});
     meshes.push_back(
         {{"iso", m.iso},
          {"path", m.path.string()},
@@ -26,6 +33,8 @@ nlohmann::json to_json(const PipelineResult& r) {
            {"spacing_mean_mm", m.holes.spacing_mean},
            {"spacing_cv", m.holes.spacing_cv},
            {"porosity", m.holes.porosity}}},
+         {"hole_table", hole_table},
+         {"hole_table_dropped", m.hole_table.dropped},
          {"reduction", m.reduction ? nlohmann::json{{"triangles_before", m.reduction->triangles_before},
                                                     {"triangles_after", m.reduction->triangles_after},
                                                     {"max_distance_mm", m.reduction->max_distance},
