@@ -59,8 +59,9 @@ struct LevelReport {
     std::int64_t removed_fragments = 0, removed_voids = 0;
     double removed_volume = 0.0;  // mm^3
   } parts;
-  std::int64_t spots_at_iso = 0;      // connected components of {phi > iso} on the band
-  std::int64_t pores_from_euler = 0;  // (chi of the unperforated solid - chi) / 2
+  std::int64_t spots_at_iso = 0;        // connected components of {phi > iso} on the band
+  std::int64_t pores_from_euler = 0;    // (chi of the unperforated solid - chi) / 2
+  std::int64_t hole_table_dropped = 0;  // band spots that are no pore of the mesh (notches at an open edge)
 };
 
 struct Report {

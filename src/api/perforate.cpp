@@ -44,6 +44,7 @@ Result perforate(const Input& input, const Options& options, const RunControl& c
         out.mesh = to_public(level.mesh);
         level.mesh = {};  // one copy at a time: meshes run to gigabytes
         out.pattern = std::move(level.pattern);
+        // A preview has no wall to measure: its holes are the band's spots (no circularity).
         if (options.preview)
           for (const BandHole& h : level.holes.holes)
             out.holes.push_back({{h.centre.x(), h.centre.y(), h.centre.z()},
@@ -51,6 +52,12 @@ Result perforate(const Input& input, const Options& options, const RunControl& c
                                  h.diameter,
                                  0.0,
                                  h.nearest});
+        for (const HoleRecord& h : level.hole_table.holes)
+          out.holes.push_back({{h.centre.x(), h.centre.y(), h.centre.z()},
+                               {h.normal.x(), h.normal.y(), h.normal.z()},
+                               h.diameter,
+                               h.circularity,
+                               h.nearest});
         result.outputs.push_back(std::move(out));
       }
     });

@@ -27,6 +27,7 @@ json level_json(const LevelReport& m, const Report& r) {
             {"removed_voids", m.parts.removed_voids},
             {"removed_volume_mm3", m.parts.removed_volume}}},
           {"spots_at_iso", m.spots_at_iso},
+          {"hole_table_dropped", m.hole_table_dropped},
           {"holes",
            {{"count", m.holes.count},
             {"diameter_mean_mm", m.holes.diameter_mean},

@@ -240,6 +240,10 @@ PipelineResult run_pipeline(const Input& input, const Options& given, RunMonitor
     out.pores_from_euler = (result.unperforated_euler - out.topology.euler_characteristic) / 2;
     check_printable(out.topology, out.iso);
     if (shell_mode) out.wall = measure_wall(out.mesh, probes[level], 4.0 * result.solid.wall_mm);
+    monitor.check();
+    out.hole_table = output_hole_table(out.mesh, out.holes, placed, grid.h(), result.solid.wall_mm,
+                                       result.solid.spacing_mm,
+                                       shell_mode ? options.offset : WallOffset::centered, side.side);
   }
   result.seconds_mesh = seconds_since(t);
   result.seconds_total = seconds_since(start);

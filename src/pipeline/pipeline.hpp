@@ -19,6 +19,7 @@
 #include "pattern/pattern.hpp"
 #include "poreshell/geometry.hpp"
 #include "poreshell/options.hpp"
+#include "shell/hole_table.hpp"
 #include "shell/mesh_decimate.hpp"
 #include "shell/parts.hpp"
 #include "shell/wall_measure.hpp"
@@ -37,6 +38,7 @@ struct MeshOutput {
   HoleStats holes;                          // on the band at this level, lengths in mm
   std::optional<DecimateResult> reduction;  // --max-triangles
   WallMeasurement wall;                     // across the written solid's wall, mm (shell mode)
+  HoleTable hole_table;                     // each pore measured on `mesh` (mm); none for a preview
   PartsSummary parts;                       // what keep_main_parts removed (none with keep_fragments)
   std::int64_t spots_at_iso = 0;            // connected components of {phi > iso} on the band
   std::int64_t pores_from_euler = 0;        // (chi of the unperforated solid - chi) / 2

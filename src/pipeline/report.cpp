@@ -22,6 +22,7 @@ LevelReport level_report(const MeshOutput& m) {
   l.parts = {m.topology.components, m.parts.removed_fragments, m.parts.removed_voids, m.parts.removed_volume};
   l.spots_at_iso = m.spots_at_iso;
   l.pores_from_euler = m.pores_from_euler;
+  l.hole_table_dropped = static_cast<std::int64_t>(m.hole_table.dropped);
   return l;
 }
 

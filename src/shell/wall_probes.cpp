@@ -49,4 +49,28 @@ std::vector<WallProbe> wall_probes(const PlacedSurface& placed, const NarrowBand
   return probes;
 }
 
+HoleTable output_hole_table(const TriangleMesh& mesh_mm, const HoleStats& holes_mm,
+                            const PlacedSurface& placed, double h, double wall_mm, double cell_mm,
+                            WallOffset offset, const SideFunction& side) {
+  if (holes_mm.holes.empty()) return {};
+  const double mm = placed.mm_per_grid();
+  std::optional<WindingNumber> winding;
+  SideFunction outward = side;
+  if (!outward && placed.mesh) {
+    winding.emplace(*placed.mesh);
+    outward = [&w = *winding, step = 0.25 * h](const Vec3& x, const Vec3& cp) {
+      return side_of_surface(w, x, cp, step);
+    };
+  }
+  const SurfaceMidWall mid_wall(*placed.surface, h, wall_mm / mm, offset, outward, mm,
+                                placed.to_mm(Vec3::Zero()));
+  std::vector<Vec3> centres;
+  std::vector<double> reach;
+  for (const BandHole& hole : holes_mm.holes) {
+    centres.push_back(hole.centroid);
+    reach.push_back(hole.diameter + 2.0 * cell_mm);
+  }
+  return measure_holes(mesh_mm, seeds_near(mid_wall, centres, reach), &mid_wall);
+}
+
 }  // namespace poreshell

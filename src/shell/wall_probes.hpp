@@ -9,6 +9,8 @@
 #include "band/band.hpp"
 #include "geometry/winding_number.hpp"
 #include "input/placement.hpp"
+#include "pattern/pattern.hpp"
+#include "shell/hole_table.hpp"
 #include "shell/shell.hpp"
 #include "shell/wall_measure.hpp"
 
@@ -33,5 +35,13 @@ void make_side_test(WallOffset offset, const PlacedSurface& placed, double h, Si
 std::vector<WallProbe> wall_probes(const PlacedSurface& placed, const NarrowBand& band,
                                    std::span<const double> phi, double iso, double wall_mm, WallOffset offset,
                                    const SideFunction& side);
+
+// The hole table of one output (mm): each band hole's centroid (mm) seeds a cut through the wall's
+// middle (the surface itself for the narrow volume), reaching its band diameter and two of the solid's
+// cells beyond. Normals point outward: a mesh's winding number, also where a centred wall did not need
+// it.
+HoleTable output_hole_table(const TriangleMesh& mesh_mm, const HoleStats& holes_mm,
+                            const PlacedSurface& placed, double h, double wall_mm, double cell_mm,
+                            WallOffset offset, const SideFunction& side);
 
 }  // namespace poreshell

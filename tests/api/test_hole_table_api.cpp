@@ -1,0 +1,117 @@
+// The hole table through the public API: one record per pore the written mesh has (its Euler
+// characteristic's count), on a closed sphere and on an open hemisphere whose edge cuts some spots into
+// notches; diameters and spacings near the request, centres at the wall's middle, outward unit normals.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <numbers>
+
+#include "poreshell/poreshell.hpp"
+
+namespace poreshell {
+namespace {
+
+// The upper half of a sphere of radius r about the origin, outward: open along the equator.
+Mesh upper_hemisphere(double r, int rings, int segments) {
+  Mesh m;
+  m.vertices.push_back({0, 0, r});
+  for (int i = 1; i <= rings; ++i) {
+    const double theta = 0.5 * std::numbers::pi * i / rings;
+    for (int j = 0; j < segments; ++j) {
+      const double phi = 2.0 * std::numbers::pi * j / segments;
+      const double z = i == rings ? 0.0 : std::cos(theta);
+      m.vertices.push_back({r * std::sin(theta) * std::cos(phi), r * std::sin(theta) * std::sin(phi), r * z});
+    }
+  }
+  const auto ring = [&](int i, int j) {
+    return static_cast<std::int32_t>(1 + (i - 1) * segments + j % segments);
+  };
+  for (int j = 0; j < segments; ++j) m.triangles.push_back({0, ring(1, j), ring(1, j + 1)});
+  for (int i = 1; i < rings; ++i)
+    for (int j = 0; j < segments; ++j) {
+      m.triangles.push_back({ring(i, j), ring(i + 1, j), ring(i + 1, j + 1)});
+      m.triangles.push_back({ring(i, j), ring(i + 1, j + 1), ring(i, j + 1)});
+    }
+  return m;
+}
+
+// Every record: a round-ish hole of about the asked diameter, its centre `middle` from the origin (the
+// wall's middle of a sphere about it), its normal unit and radial, outward; nearest neighbours about the
+// asked spacing.
+double norm(const Point& p) {
+  return std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+}
+
+void expect_holes_as_asked(const std::vector<Hole>& holes, std::int64_t dropped, double diameter,
+                           double spacing, double middle) {
+  double sum_diameter = 0, sum_nearest = 0;
+  for (const Hole& h : holes) {
+    EXPECT_GT(h.diameter, 0.7 * diameter);
+    EXPECT_LT(h.diameter, 1.3 * diameter);
+    EXPECT_GT(h.circularity, 0.8);
+    EXPECT_LE(h.circularity, 1.0);
+    EXPECT_NEAR(norm(h.centre), middle, 0.02);
+    EXPECT_NEAR(norm(h.normal), 1.0, 1e-12);
+    EXPECT_GT(
+        (h.normal[0] * h.centre[0] + h.normal[1] * h.centre[1] + h.normal[2] * h.centre[2]) / norm(h.centre),
+        0.999);
+    EXPECT_GT(h.nearest, 0.6 * spacing);
+    EXPECT_LT(h.nearest, 1.4 * spacing);
+    sum_diameter += h.diameter;
+    sum_nearest += h.nearest;
+  }
+  const auto n = static_cast<double>(holes.size());
+  double least = 1.0;
+  for (const Hole& h : holes) least = std::min(least, h.circularity);
+  std::printf(
+      "%zu holes (%lld seeds dropped): mean diameter %.2f mm, spacing %.2f mm, least circularity %.3f\n",
+      holes.size(), static_cast<long long>(dropped), sum_diameter / n, sum_nearest / n, least);
+  EXPECT_NEAR(sum_diameter / n, diameter, 0.1 * diameter);
+  EXPECT_NEAR(sum_nearest / n, spacing, 0.1 * spacing);
+}
+
+TEST(HoleTablePipeline, OneRecordPerPoreOfASphere) {
+  Options c;
+  c.hole_diameter = 6.0;
+  c.spacing = 10.0;
+  c.wall = 2.0;
+  const Result r = perforate(sphere(20.0), c);
+  const LevelReport& out = r.report.outputs.at(0);
+  const std::vector<Hole>& holes = r.outputs.at(0).holes;
+  EXPECT_GT(out.pores_from_euler, 30);
+  EXPECT_EQ(static_cast<std::int64_t>(holes.size()), out.pores_from_euler);
+  EXPECT_EQ(out.hole_table_dropped, out.spots_at_iso - out.pores_from_euler);
+  expect_holes_as_asked(holes, out.hole_table_dropped, 6.0, 10.0, 20.0);
+  const nlohmann::json report = nlohmann::json::parse(report_json(r.report, r.outputs));
+  EXPECT_EQ(report["mesh"]["hole_table"].size(), holes.size());
+  EXPECT_EQ(report["mesh"]["outputs"][0]["hole_table"][0]["centre"].size(), 3u);
+}
+
+// An open sheet, its wall outside the surface: the spots the edge cuts are notches, not pores, and
+// measure no closed loop.
+TEST(HoleTablePipeline, OneRecordPerPoreOfAnOpenHemisphere) {
+  MeshInput hemisphere;
+  hemisphere.mesh = upper_hemisphere(25.0, 48, 192);
+  Options c;
+  c.hole_diameter = 6.0;
+  c.spacing = 10.0;
+  c.wall = 1.5;
+  c.offset = WallOffset::outside;
+  c.thin_feature_ratio = 0.0;  // the sheet is a surface, not a thin part: measure every pore
+  c.crease_angle = 0.0;
+  const Result r = perforate(hemisphere, c);
+  const LevelReport& out = r.report.outputs.at(0);
+  const std::vector<Hole>& holes = r.outputs.at(0).holes;
+  EXPECT_GT(out.pores_from_euler, 20);
+  EXPECT_GT(out.spots_at_iso, out.pores_from_euler) << "no notch along the edge";
+  EXPECT_EQ(static_cast<std::int64_t>(holes.size()), out.pores_from_euler);
+  EXPECT_EQ(out.hole_table_dropped, out.spots_at_iso - out.pores_from_euler);
+  expect_holes_as_asked(holes, out.hole_table_dropped, 6.0, 10.0, 25.0 + 0.75);
+}
+
+}  // namespace
+}  // namespace poreshell
