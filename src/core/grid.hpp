@@ -2,6 +2,7 @@
 // The uniform grid of the paper (section 2): x_ijk = origin + h * (i, j, k), 0 <= i < Nx etc.
 // The paper counts from 1; we count from 0. This is the single place that knows the convention.
 
+#include <array>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
@@ -42,5 +43,13 @@ class Grid {
   double h_;
   std::array<int, 3> dims_;
 };
+
+// The 6 face neighbours' offsets, -x, +x, -y, +y, -z, +z.
+inline constexpr std::array<Coord, 6> kFaceOffsets{
+    {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}}};
+
+inline Coord shifted(const Coord& c, const Coord& offset) {
+  return {c.i + offset.i, c.j + offset.j, c.k + offset.k};
+}
 
 }  // namespace poreshell
