@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>  // cross(), unitOrthogonal()
 #include <random>
 #include <vector>
 
