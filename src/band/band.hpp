@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "core/grid.hpp"
+#include "core/trilinear.hpp"
 #include "geometry/surface.hpp"
 
 namespace poreshell {
@@ -39,19 +40,14 @@ struct GhostStencil {
   std::array<float, 3> t{};           // cp's position in its cell, per axis in [0, 1]
 
   std::int32_t corner(int c) const { return row[c >> 1] + (c & 1); }
-  double weight(int c) const {
-    const double x = t[0], y = t[1], z = t[2];
-    return ((c & 1) ? x : 1 - x) * ((c & 2) ? y : 1 - y) * ((c & 4) ? z : 1 - z);
-  }
+  double weight(int c) const { return trilinear_weight(Vec3(t[0], t[1], t[2]), c); }
   template <class T>
   T interpolate(const T* values) const {
     const auto along_x = [&](int r) {
       const T* v = values + row[static_cast<std::size_t>(r)];
       return v[0] + static_cast<T>(t[0]) * (v[1] - v[0]);
     };
-    const T low = along_x(0) + static_cast<T>(t[1]) * (along_x(1) - along_x(0));
-    const T high = along_x(2) + static_cast<T>(t[1]) * (along_x(3) - along_x(2));
-    return low + static_cast<T>(t[2]) * (high - low);
+    return trilinear_from_rows(along_x, static_cast<T>(t[1]), static_cast<T>(t[2]));
   }
 };
 

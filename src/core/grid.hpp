@@ -2,9 +2,12 @@
 // The uniform grid of the paper (section 2): x_ijk = origin + h * (i, j, k), 0 <= i < Nx etc.
 // The paper counts from 1; we count from 0. This is the single place that knows the convention.
 
+#include <algorithm>
+#include <array>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "core/types.hpp"
 
@@ -42,5 +45,19 @@ class Grid {
   double h_;
   std::array<int, 3> dims_;
 };
+
+// The 6 face neighbours' offsets, -x, +x, -y, +y, -z, +z.
+inline constexpr std::array<Coord, 6> kFaceOffsets{
+    {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}}};
+
+inline Coord shifted(const Coord& c, const Coord& offset) {
+  return {c.i + offset.i, c.j + offset.j, c.k + offset.k};
+}
+
+// The position of `key` in ascending `keys`, or -1: sparse sets of voxels are sorted key lists.
+inline std::int64_t find_key(const std::vector<std::int64_t>& keys, std::int64_t key) {
+  const auto it = std::lower_bound(keys.begin(), keys.end(), key);
+  return (it != keys.end() && *it == key) ? it - keys.begin() : -1;
+}
 
 }  // namespace poreshell

@@ -16,6 +16,7 @@
 #include <numbers>
 #include <numeric>
 #include <stdexcept>
+#include <string>
 #include <utility>
 
 namespace poreshell {
@@ -76,20 +77,6 @@ class SmallDisjointSets {
   std::vector<std::uint32_t> parent_;
 };
 
-bool has_repeated_index(const std::array<std::int32_t, 3>& t) {
-  return t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
-}
-
-bool zero_area(const TriangleMesh& mesh, const std::array<std::int32_t, 3>& t) {
-  const Vec3& a = mesh.vertices[t[0]];
-  const Vec3& b = mesh.vertices[t[1]];
-  const Vec3& c = mesh.vertices[t[2]];
-  const double longest2 = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
-  // Relative to the longest edge so the test does not depend on the model's units; the factor
-  // is a few ulps, i.e. "collinear up to round-off".
-  return (b - a).cross(c - a).norm() <= 1e-14 * longest2;
-}
-
 // The triangles at each vertex (triangles with a repeated index left out), as compressed rows: the
 // triangles of v are incident[start[v] .. start[v + 1]), ascending.
 struct VertexTriangles {
@@ -97,13 +84,13 @@ struct VertexTriangles {
   std::vector<std::uint32_t> incident;
 };
 
-VertexTriangles vertex_triangles(const TriangleMesh& mesh) {
-  const std::size_t nv = mesh.vertices.size(), nf = mesh.triangles.size();
+VertexTriangles vertex_triangles(std::size_t nv, const std::vector<Triangle>& triangles) {
+  const std::size_t nf = triangles.size();
   std::vector<std::atomic<std::uint32_t>> count(nv);
   tbb::parallel_for(std::size_t{0}, nv, [&](std::size_t v) { count[v].store(0, std::memory_order_relaxed); });
   tbb::parallel_for(std::size_t{0}, nf, [&](std::size_t f) {
-    const auto& t = mesh.triangles[f];
-    if (!has_repeated_index(t))
+    const auto& t = triangles[f];
+    if (!has_repeated_vertex(t))
       for (std::int32_t v : t) count[static_cast<std::size_t>(v)].fetch_add(1, std::memory_order_relaxed);
   });
   VertexTriangles out;
@@ -115,8 +102,8 @@ VertexTriangles vertex_triangles(const TriangleMesh& mesh) {
   }
   out.incident.resize(out.start[nv]);
   tbb::parallel_for(std::size_t{0}, nf, [&](std::size_t f) {
-    const auto& t = mesh.triangles[f];
-    if (!has_repeated_index(t))
+    const auto& t = triangles[f];
+    if (!has_repeated_vertex(t))
       for (std::int32_t v : t)
         out.incident[count[static_cast<std::size_t>(v)].fetch_add(1, std::memory_order_relaxed)] =
             static_cast<std::uint32_t>(f);
@@ -132,7 +119,9 @@ VertexTriangles vertex_triangles(const TriangleMesh& mesh) {
 struct VertexCounts {
   std::int64_t edges = 0, boundary_edges = 0, nonmanifold_edges = 0, misoriented_edges = 0;
   std::int64_t nonmanifold_vertices = 0;
+  std::vector<Edge> boundary;  // listed only when asked for
   VertexCounts& operator+=(const VertexCounts& o) {
+    boundary.insert(boundary.end(), o.boundary.begin(), o.boundary.end());
     edges += o.edges;
     boundary_edges += o.boundary_edges;
     nonmanifold_edges += o.nonmanifold_edges;
@@ -153,11 +142,12 @@ struct Side {
 
 // Each edge is counted at its smaller vertex, where all its triangles are incident; triangles sharing an
 // edge are joined into components; v is non-manifold where its triangles do not form one edge-connected
-// fan.
-VertexCounts count_at_vertices(const TriangleMesh& mesh, const VertexTriangles& at,
-                               ConcurrentDisjointSets& components) {
+// fan. Components are joined only when given; boundary edges listed only when `list_boundary`.
+VertexCounts count_at_vertices(std::size_t nv, const std::vector<Triangle>& triangles,
+                               const VertexTriangles& at, ConcurrentDisjointSets* components,
+                               bool list_boundary) {
   return tbb::parallel_reduce(
-      tbb::blocked_range<std::size_t>(0, mesh.vertices.size()), VertexCounts{},
+      tbb::blocked_range<std::size_t>(0, nv), VertexCounts{},
       [&](const tbb::blocked_range<std::size_t>& r, VertexCounts counts) {
         std::vector<Side> sides;
         SmallDisjointSets fan;
@@ -166,7 +156,7 @@ VertexCounts count_at_vertices(const TriangleMesh& mesh, const VertexTriangles& 
           if (n == 0) continue;
           sides.clear();
           for (std::uint32_t i = 0; i < n; ++i) {
-            const auto& t = mesh.triangles[at.incident[first + i]];
+            const auto& t = triangles[at.incident[first + i]];
             const int c = t[0] == static_cast<std::int32_t>(v)   ? 0
                           : t[1] == static_cast<std::int32_t>(v) ? 1
                                                                  : 2;
@@ -182,11 +172,15 @@ VertexCounts count_at_vertices(const TriangleMesh& mesh, const VertexTriangles& 
             if (sides[i].other > static_cast<std::int32_t>(v)) {
               const std::size_t m = j - i;
               ++counts.edges;
-              if (m == 1) ++counts.boundary_edges;
+              if (m == 1) {
+                ++counts.boundary_edges;
+                if (list_boundary) counts.boundary.push_back({static_cast<std::int32_t>(v), sides[i].other});
+              }
               if (m > 2) ++counts.nonmanifold_edges;
               if (m == 2 && sides[i].from_v == sides[i + 1].from_v) ++counts.misoriented_edges;
-              for (std::size_t k = i + 1; k < j; ++k)
-                components.unite(at.incident[first + sides[i].local], at.incident[first + sides[k].local]);
+              if (components)
+                for (std::size_t k = i + 1; k < j; ++k)
+                  components->unite(at.incident[first + sides[i].local], at.incident[first + sides[k].local]);
             }
             i = j;
           }
@@ -199,6 +193,18 @@ VertexCounts count_at_vertices(const TriangleMesh& mesh, const VertexTriangles& 
         return counts;
       },
       [](VertexCounts a, const VertexCounts& b) { return a += b; });
+}
+
+void check_indices(std::size_t nv, const std::vector<Triangle>& triangles, const char* what) {
+  const bool bad = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, triangles.size()), false,
+      [&](const tbb::blocked_range<std::size_t>& r, bool found) {
+        for (std::size_t f = r.begin(); f != r.end() && !found; ++f)
+          for (std::int32_t v : triangles[f]) found = found || v < 0 || static_cast<std::size_t>(v) >= nv;
+        return found;
+      },
+      [](bool a, bool b) { return a || b; });
+  if (bad) throw std::out_of_range(std::string(what) + ": a vertex index is out of range");
 }
 
 // Cosine of a triangle's smallest angle (1 for a zero-length side).
@@ -215,6 +221,40 @@ double largest_angle_cosine(const TriangleMesh& mesh, const std::array<std::int3
 }
 
 }  // namespace
+
+TriangleSize triangle_size(const Vec3& a, const Vec3& b, const Vec3& c) {
+  return {(b - a).cross(c - a).norm(),
+          std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()})};
+}
+
+bool is_degenerate(const TriangleMesh& mesh, const Triangle& t) {
+  return has_repeated_vertex(t) || zero_area(mesh.vertices[static_cast<std::size_t>(t[0])],
+                                             mesh.vertices[static_cast<std::size_t>(t[1])],
+                                             mesh.vertices[static_cast<std::size_t>(t[2])]);
+}
+
+double surface_area(const TriangleMesh& mesh) {
+  double area = 0.0;
+  for (const auto& t : mesh.triangles) {
+    const Vec3& a = mesh.vertices[static_cast<std::size_t>(t[0])];
+    area += 0.5 * (mesh.vertices[static_cast<std::size_t>(t[1])] - a)
+                      .cross(mesh.vertices[static_cast<std::size_t>(t[2])] - a)
+                      .norm();
+  }
+  return area;
+}
+
+std::vector<Edge> boundary_edges(std::size_t vertex_count, const std::vector<Triangle>& triangles) {
+  check_indices(vertex_count, triangles, "boundary_edges");
+  if (3 * triangles.size() > std::numeric_limits<std::uint32_t>::max() || vertex_count >= std::size_t{1}
+                                                                                              << 31)
+    throw std::invalid_argument("boundary_edges: over 1.4 billion triangles or 2^31 vertices");
+  std::vector<Edge> out =
+      count_at_vertices(vertex_count, triangles, vertex_triangles(vertex_count, triangles), nullptr, true)
+          .boundary;
+  std::sort(out.begin(), out.end());  // gathered in the order the tasks finished
+  return out;
+}
 
 MeshTopology analyze_topology(const TriangleMesh& mesh) {
   MeshTopology topo;
@@ -237,10 +277,10 @@ MeshTopology analyze_topology(const TriangleMesh& mesh) {
           if (std::any_of(t.begin(), t.end(),
                           [&](std::int32_t v) { return v < 0 || static_cast<std::size_t>(v) >= nv; })) {
             ++c.bad_indices;
-          } else if (has_repeated_index(t)) {
+          } else if (has_repeated_vertex(t)) {
             ++c.repeated_index;  // its "edges" (a, a) are not edges
           } else {
-            c.zero_area += zero_area(mesh, t);
+            c.zero_area += is_degenerate(mesh, t);
             c.min_cos = std::max(c.min_cos, largest_angle_cosine(mesh, t));
           }
         }
@@ -257,10 +297,10 @@ MeshTopology analyze_topology(const TriangleMesh& mesh) {
   topo.degenerate_triangles = tc.repeated_index + tc.zero_area;
   topo.min_angle_degrees = nf ? std::acos(std::clamp(tc.min_cos, -1.0, 1.0)) * 180.0 / std::numbers::pi : 0.0;
 
-  const VertexTriangles at = vertex_triangles(mesh);
+  const VertexTriangles at = vertex_triangles(nv, mesh.triangles);
   {
     ConcurrentDisjointSets components(nf);
-    const VertexCounts counts = count_at_vertices(mesh, at, components);
+    const VertexCounts counts = count_at_vertices(nv, mesh.triangles, at, &components, false);
     topo.edges = counts.edges;
     topo.boundary_edges = counts.boundary_edges;
     topo.nonmanifold_edges = counts.nonmanifold_edges;
@@ -280,7 +320,7 @@ MeshTopology analyze_topology(const TriangleMesh& mesh) {
   tbb::parallel_for(std::size_t{0}, nv, [&](std::size_t v) { used[v] = at.start[v + 1] > at.start[v]; });
   if (tc.repeated_index > 0)
     for (const auto& t : mesh.triangles)
-      if (has_repeated_index(t))
+      if (has_repeated_vertex(t))
         for (std::int32_t v : t) used[static_cast<std::size_t>(v)] = 1;
   topo.vertices = std::count(used.begin(), used.end(), char{1});
   topo.euler_characteristic = topo.vertices - topo.edges + topo.triangles;

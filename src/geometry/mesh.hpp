@@ -30,6 +30,37 @@ struct MeshTopology {
   bool oriented() const { return misoriented_edges == 0; }
 };
 
+using Triangle = std::array<std::int32_t, 3>;
+using Edge = std::array<std::int32_t, 2>;
+
+// The degenerate-triangle rule (a repeated vertex index, or zero area), one for the input's cleaning, the
+// topology check, the closest-point search and the decimater.
+inline bool has_repeated_vertex(const Triangle& t) {
+  return t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
+}
+// Twice the area and the longest edge squared, which the shape tests compare.
+struct TriangleSize {
+  double twice_area = 0.0, longest2 = 0.0;
+  // Zero area: collinear up to round-off (a few ulps of the longest edge, whatever the model's units).
+  // NaN coordinates count as zero area.
+  bool zero_area() const { return !(twice_area > 1e-14 * longest2); }
+};
+TriangleSize triangle_size(const Vec3& a, const Vec3& b, const Vec3& c);
+inline bool zero_area(const Vec3& a, const Vec3& b, const Vec3& c) {
+  return triangle_size(a, b, c).zero_area();
+}
+bool is_degenerate(const TriangleMesh& mesh, const Triangle& t);
+
+// The sum of the triangles' areas, in order.
+double surface_area(const TriangleMesh& mesh);
+
+// Edges with one triangle (triangles with a repeated vertex left out), each as (smaller vertex, larger),
+// ascending: the open boundary. analyze_topology counts the same edges in the same pass.
+std::vector<Edge> boundary_edges(std::size_t vertex_count, const std::vector<Triangle>& triangles);
+inline std::vector<Edge> boundary_edges(const TriangleMesh& mesh) {
+  return boundary_edges(mesh.vertices.size(), mesh.triangles);
+}
+
 // Throws std::out_of_range for a vertex index outside the mesh. The result does not depend on the order
 // of the triangles or the thread count.
 MeshTopology analyze_topology(const TriangleMesh& mesh);

@@ -70,10 +70,9 @@ double box_distance2(const Vec3& p, const Vec3& lo, const Vec3& hi) {
 }  // namespace
 
 TriangleShape classify_triangle(const Vec3& a, const Vec3& b, const Vec3& c) {
-  const double longest2 = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
-  const double twice_area = (b - a).cross(c - a).norm();
-  if (!(twice_area > 1e-14 * longest2)) return TriangleShape::degenerate;
-  return twice_area > 1e-4 * longest2 ? TriangleShape::regular : TriangleShape::sliver;
+  const TriangleSize size = triangle_size(a, b, c);
+  if (size.zero_area()) return TriangleShape::degenerate;
+  return size.twice_area > 1e-4 * size.longest2 ? TriangleShape::regular : TriangleShape::sliver;
 }
 
 Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c,
@@ -102,7 +101,7 @@ MeshSurface::MeshSurface(const TriangleMesh& mesh) {
   input_index.reserve(mesh.triangles.size());
   for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
     const auto& t = mesh.triangles[i];
-    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) continue;
+    if (has_repeated_vertex(t)) continue;
     Tri tri{mesh.vertices.at(t[0]), mesh.vertices.at(t[1]), mesh.vertices.at(t[2])};
     if (!tri.a.allFinite() || !tri.b.allFinite() || !tri.c.allFinite())
       throw InputError("the mesh has a vertex with a NaN or infinite coordinate: repair the mesh");

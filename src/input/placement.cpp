@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <string>
 #include <type_traits>
@@ -11,6 +10,7 @@
 #include "core/error.hpp"
 #include "core/units.hpp"
 #include "geometry/mesh_surface.hpp"
+#include "geometry/plane_fit.hpp"
 #include "input/point_cloud.hpp"
 #include "input/point_segmentation.hpp"
 #include "io/mesh_io.hpp"
@@ -85,13 +85,7 @@ void fit_to_unit_grid(std::vector<Vec3>& vertices, const Options& c, const std::
 // the variance along it.
 void check_not_collinear(const std::vector<Vec3>& points, const std::string& what) {
   if (points.size() < 2) return;
-  Vec3 mean = Vec3::Zero();
-  for (const Vec3& p : points) mean += p;
-  mean /= static_cast<double>(points.size());
-  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-  for (const Vec3& p : points) covariance += (p - mean) * (p - mean).transpose();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance, Eigen::EigenvaluesOnly);
-  const Vec3 spread = solver.eigenvalues();  // ascending
+  const Vec3 spread = fit_plane(points).variances;  // ascending
   if (spread[2] > 0.0 && spread[1] <= 1e-12 * spread[2])
     throw InputError(what +
                      " lies on a line: its points sample no surface; give points spread over the surface");

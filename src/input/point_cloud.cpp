@@ -3,13 +3,14 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <queue>
+#include <span>
 #include <stdexcept>
 
 #include "core/error.hpp"
+#include "geometry/plane_fit.hpp"
 
 namespace poreshell {
 
@@ -28,17 +29,8 @@ SplatSurface::SplatSurface(std::vector<Vec3> points, const SplatOptions& options
     const auto near = plain.k_nearest(points_[i], need);
     // Normal: the least-variance direction of the neighbourhood (PCA plane fit). Its sign is irrelevant
     // for an unsigned distance.
-    Vec3 mean = Vec3::Zero();
     const auto nk = static_cast<std::size_t>(options.normal_neighbors);
-    for (std::size_t j = 0; j < nk; ++j) mean += points_[near[j]];
-    mean /= static_cast<double>(nk);
-    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-    for (std::size_t j = 0; j < nk; ++j) {
-      const Vec3 d = points_[near[j]] - mean;
-      cov += d * d.transpose();
-    }
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
-    normals_[i] = eig.eigenvectors().col(0).normalized();
+    normals_[i] = fit_plane(points_, std::span(near.data(), nk)).normal().normalized();
     // near[0] is the point itself (or a duplicate at distance 0).
     radii_[i] = (points_[near[static_cast<std::size_t>(options.radius_neighbor)]] - points_[i]).norm();
   });

@@ -72,9 +72,8 @@ void VertexScalarField::build_search() {
   surface_.reset();
   points_.reset();
   // MeshSurface skips triangles with a repeated vertex; if that leaves none, the field is a point set.
-  const bool has_face = std::any_of(triangles_.begin(), triangles_.end(), [](const auto& t) {
-    return t[0] != t[1] && t[1] != t[2] && t[0] != t[2];
-  });
+  const bool has_face = std::any_of(triangles_.begin(), triangles_.end(),
+                                    [](const auto& t) { return !has_repeated_vertex(t); });
   if (has_face)
     surface_ = std::make_shared<const MeshSurface>(TriangleMesh{vertices_, triangles_});
   else

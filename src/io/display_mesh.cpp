@@ -1,6 +1,5 @@
 #include "io/display_mesh.hpp"
 
-#include <Eigen/Geometry>  // cross()
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -40,7 +39,7 @@ TriangleMesh cluster(const TriangleMesh& mesh, const Vec3& origin, double cell) 
     const std::array<std::int32_t, 3> c{vertex_cell[static_cast<std::size_t>(t[0])],
                                         vertex_cell[static_cast<std::size_t>(t[1])],
                                         vertex_cell[static_cast<std::size_t>(t[2])]};
-    if (c[0] != c[1] && c[1] != c[2] && c[0] != c[2]) out.triangles.push_back(c);
+    if (!has_repeated_vertex(c)) out.triangles.push_back(c);
   }
   // The same cluster triangle from several input triangles: keep one (sorted corners as the key,
   // orientation from the first).
@@ -69,13 +68,7 @@ TriangleMesh reduce_for_display(const TriangleMesh& mesh, std::size_t max_triang
     lo = lo.cwiseMin(v);
     hi = hi.cwiseMax(v);
   }
-  double area = 0.0;
-  for (const auto& t : mesh.triangles) {
-    const Vec3& a = mesh.vertices[static_cast<std::size_t>(t[0])];
-    area += 0.5 * (mesh.vertices[static_cast<std::size_t>(t[1])] - a)
-                      .cross(mesh.vertices[static_cast<std::size_t>(t[2])] - a)
-                      .norm();
-  }
+  const double area = surface_area(mesh);
   // A cell of side c holds about one vertex of the reduced surface, which has about 2 triangles a
   // vertex: area / c^2 vertices give 2 area / c^2 triangles.
   double cell = std::sqrt(2.0 * area / static_cast<double>(max_triangles));

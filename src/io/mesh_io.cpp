@@ -8,7 +8,7 @@
 
 #include <fmt/format.h>
 
-#include <Eigen/Geometry>
+#include <Eigen/Geometry>  // Affine3d
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -155,12 +155,6 @@ TriangleMesh from_ply(std::string_view bytes, const std::string& name) {
   return TriangleMesh{std::move(data.vertices), std::move(data.triangles)};
 }
 
-bool zero_area(const Vec3& a, const Vec3& b, const Vec3& c) {
-  const double longest2 = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
-  // Same rule as analyze_topology: collinear up to round-off, independent of the model's units.
-  return (b - a).cross(c - a).norm() <= 1e-14 * longest2;
-}
-
 }  // namespace
 
 MeshInputStats clean_triangle_mesh(TriangleMesh& mesh) {
@@ -205,8 +199,7 @@ MeshInputStats clean_triangle_mesh(TriangleMesh& mesh) {
   triangles.reserve(mesh.triangles.size());
   for (const auto& t : mesh.triangles) {
     const std::array<std::int32_t, 3> r{remap[t[0]], remap[t[1]], remap[t[2]]};
-    if (r[0] == r[1] || r[1] == r[2] || r[0] == r[2] ||
-        zero_area(vertices[r[0]], vertices[r[1]], vertices[r[2]])) {
+    if (has_repeated_vertex(r) || zero_area(vertices[r[0]], vertices[r[1]], vertices[r[2]])) {
       ++stats.dropped_degenerate;
       continue;
     }

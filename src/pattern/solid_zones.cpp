@@ -9,7 +9,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <unordered_map>
 
 namespace poreshell {
@@ -63,15 +62,10 @@ class SegmentBuckets {
 }  // namespace
 
 std::vector<Segment> boundary_segments(const TriangleMesh& mesh) {
-  std::map<std::pair<std::int32_t, std::int32_t>, int> uses;
-  for (const auto& t : mesh.triangles)
-    for (int e = 0; e < 3; ++e) {
-      const std::int32_t a = t[e], b = t[(e + 1) % 3];
-      ++uses[{std::min(a, b), std::max(a, b)}];
-    }
   std::vector<Segment> out;
-  for (const auto& [edge, count] : uses)
-    if (count == 1) out.push_back({mesh.vertices[edge.first], mesh.vertices[edge.second]});
+  for (const Edge& e : boundary_edges(mesh))
+    out.push_back(
+        {mesh.vertices[static_cast<std::size_t>(e[0])], mesh.vertices[static_cast<std::size_t>(e[1])]});
   return out;
 }
 

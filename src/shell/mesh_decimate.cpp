@@ -20,7 +20,6 @@
 #include <OpenMesh/Tools/Decimater/ModHausdorffT.hh>
 #include <OpenMesh/Tools/Decimater/ModQuadricT.hh>
 
-#include <Eigen/Geometry>  // cross()
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -430,15 +429,6 @@ void validate(const DecimateOptions& options) {
     throw InputError(
         "the distance bound for reducing triangles must be a positive number in the mesh's units; got " +
         std::to_string(options.max_distance));
-}
-
-double surface_area(const TriangleMesh& mesh) {
-  double area = 0.0;
-  for (const auto& t : mesh.triangles) {
-    const Vec3& a = mesh.vertices[t[0]];
-    area += 0.5 * (mesh.vertices[t[1]] - a).cross(mesh.vertices[t[2]] - a).norm();
-  }
-  return area;
 }
 
 // Vertex i of the OpenMesh mesh is vertex i of `mesh`. The status flags, in which the decimater

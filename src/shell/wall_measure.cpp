@@ -4,6 +4,10 @@
 // wall. Rays are hashed into cells along their segments, so each triangle is tested only against the
 // rays that pass its cells: time is one pass over the triangles and memory a few kilobytes, however
 // large the mesh (a search tree over a 24-million-triangle mesh would take 2 GB).
+// Against Embree 3 (libembree-dev), bench/wall_rays_vs_embree.cpp: 256 rays across a 2.0 M-triangle
+// spherical shell, 2 threads: this pass 0.27 s and 3.9 MB peak, Embree 2.47 s (BVH build; the rays take
+// 0.3 ms) and 227 MB, both measuring the 0.2 wall; docs/benchmarks.md, "Wall probes against Embree".
+// A BVH pays off only for many more rays than the probes cast.
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>

@@ -87,9 +87,7 @@ BandInterpolation::BandInterpolation(const NarrowBand& from, std::span<const Vec
     : compact_(points.size()) {
   const Grid& grid = from.grid();
   tbb::parallel_for(std::size_t{0}, points.size(), [&](std::size_t i) {
-    const Vec3 q = grid.to_index_space(points[i]);
-    const Coord base{static_cast<int>(std::floor(q.x())), static_cast<int>(std::floor(q.y())),
-                     static_cast<int>(std::floor(q.z()))};
+    const auto [base, t] = lattice_cell(grid.to_index_space(points[i]));
     Compact& s = compact_[i];
     for (int r = 0; r < 4; ++r) {
       const Coord c{base.i, base.j + (r & 1), base.k + (r >> 1)};
@@ -100,8 +98,7 @@ BandInterpolation::BandInterpolation(const NarrowBand& from, std::span<const Vec
       }
       s.row[static_cast<std::size_t>(r)] = static_cast<std::int32_t>(at);
     }
-    for (int a = 0; a < 3; ++a)
-      s.t[static_cast<std::size_t>(a)] = static_cast<float>(q[a] - std::floor(q[a]));
+    s.t = {static_cast<float>(t.x()), static_cast<float>(t.y()), static_cast<float>(t.z())};
   });
   for (std::size_t i = 0; i < points.size(); ++i) {  // rare: in order, so the numbering is deterministic
     if (compact_[i].row[0] >= 0) continue;

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "band/band.hpp"
+#include "core/trilinear.hpp"
 
 namespace poreshell {
 
@@ -38,9 +39,7 @@ class BandInterpolation {
       const T* v = values.data() + s.row[static_cast<std::size_t>(r)];
       return v[0] + s.t[0] * (v[1] - v[0]);
     };
-    const T low = along_x(0) + s.t[1] * (along_x(1) - along_x(0));
-    const T high = along_x(2) + s.t[1] * (along_x(3) - along_x(2));
-    return low + s.t[2] * (high - low);
+    return trilinear_from_rows(along_x, static_cast<T>(s.t[1]), static_cast<T>(s.t[2]));
   }
   std::size_t memory_bytes() const;
 
