@@ -26,9 +26,9 @@ class ProgressDisplay {
   void json(const poreshell::Progress& p);
 
   ProgressStyle style_;
-  std::string stage_;                    // the stage being shown
-  double stage_start_ = 0.0;             // run seconds at its start
-  bool line_open_ = false;               // a bar line without its newline yet
+  std::string stage_;         // the stage being shown
+  double stage_start_ = 0.0;  // run seconds at its start
+  bool line_open_ = false;    // a bar line without its newline yet
   std::chrono::steady_clock::time_point last_draw_{};
 };
 

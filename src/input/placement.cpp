@@ -66,10 +66,11 @@ void fit_to_unit_grid(std::vector<Vec3>& vertices, const Options& c, const std::
   // output's coordinates overflow the STL's floats or collapse to zero.
   const double longest_mm = longest * placed.input.millimetres_per_unit;
   if (!(longest_mm <= kLargestModelMm) || !(longest_mm >= kSmallestModelMm))
-    throw InputError(fmt::format("{} is {:.3g} mm across ({} of the input's coordinates), {} than poreshell "
-                                 "makes ({:g} mm to {:g} mm); check `units` (m, cm, mm, inch) or rescale the model",
-                                 what, longest_mm, longest, longest_mm > kLargestModelMm ? "larger" : "smaller",
-                                 kSmallestModelMm, kLargestModelMm));
+    throw InputError(
+        fmt::format("{} is {:.3g} mm across ({} of the input's coordinates), {} than poreshell "
+                    "makes ({:g} mm to {:g} mm); check `units` (m, cm, mm, inch) or rescale the model",
+                    what, longest_mm, longest, longest_mm > kLargestModelMm ? "larger" : "smaller",
+                    kSmallestModelMm, kLargestModelMm));
   placed.resolution = resolution_for(c, placed.input.millimetres_per_unit, longest, kMeshPaddingCells);
   const double h = 1.0 / (placed.resolution - 1);
   const double scale = (1.0 - 2 * kMeshPaddingCells * h) / longest;

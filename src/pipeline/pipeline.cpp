@@ -158,7 +158,8 @@ PipelineResult run_pipeline(const Input& input, const Options& given, RunMonitor
   std::optional<ShellSamples> shell;  // freed once the last level is meshed
   if (shell_mode) {
     make_side_test(options.offset, placed, grid.h(), side);
-    shell = sample_printable_shell(options, placed, band, phi, side.side, result, StageProgress(monitor, 0.0, 0.6));
+    shell = sample_printable_shell(options, placed, band, phi, side.side, result,
+                                   StageProgress(monitor, 0.0, 0.6));
   } else {
     result.solid.spacing_mm = grid.h() * placed.mm_per_grid();
   }
@@ -199,7 +200,8 @@ PipelineResult run_pipeline(const Input& input, const Options& given, RunMonitor
     const auto levels = static_cast<double>(options.iso.size());
     const StageProgress share(monitor, static_cast<double>(level) / levels,
                               static_cast<double>(level + 1) / levels);
-    const double meshed = options.max_triangles > 0 ? 0.3 : 0.6, reduced = options.max_triangles > 0 ? 0.8 : 0.6;
+    const double meshed = options.max_triangles > 0 ? 0.3 : 0.6,
+                 reduced = options.max_triangles > 0 ? 0.8 : 0.6;
     MeshOutput& out = result.meshes[level];
     out.mesh = shell_mode ? shell_mesh(*shell, out.iso, share.part(0.0, meshed))
                           : narrow_volume_mesh(band, phi, out.iso);
@@ -207,8 +209,8 @@ PipelineResult run_pipeline(const Input& input, const Options& given, RunMonitor
     share.advance(meshed);
     for (Vec3& v : out.mesh.vertices) v = placed.to_mm(v);
     if (options.max_triangles > 0)
-      out.reduction =
-          decimate_mesh(out.mesh, {options.max_triangles, options.max_deviation, share.part(meshed, reduced)});
+      out.reduction = decimate_mesh(
+          out.mesh, {options.max_triangles, options.max_deviation, share.part(meshed, reduced)});
     out.topology = analyze_topology(out.mesh, share.part(reduced, 0.9));
     out.pores_from_euler = (result.unperforated_euler - out.topology.euler_characteristic) / 2;
     check_printable(out.topology, out.iso);

@@ -42,7 +42,7 @@ struct ShellOptions {
   // Needed for inside/outside when the surface's distance is unsigned; empty: the sign of
   // Surface::distance is used.
   SideFunction side;
-  StageProgress progress;  // the sampling's share of its stage (checked, reported)
+  StageProgress progress{};  // the sampling's share of its stage (checked, reported)
 };
 
 inline constexpr double kMinCellsAcrossWall = 3.0;

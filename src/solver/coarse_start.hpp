@@ -40,7 +40,7 @@ struct CoarseStartOptions {
   FastOptions fast;
   // Shares of the solve stage: the coarse band, its solver's set-up (fast.progress), its run (the run's
   // on_step reports), the carry to the fine band.
-  StageProgress band_progress, carry_progress;
+  StageProgress band_progress{}, carry_progress{};
 };
 
 // The coarse run ends at this share of the fine run's tolerance. The paper's e_c = 1e-3 is reached in

@@ -90,7 +90,8 @@ SolveResult solve_pattern(const Options& c, const std::optional<PatternPlan>& pl
   LevelStart fine_start = level_start(band, !coarse_grid);
   monitor.check();
   if (coarse_grid) {
-    CoarseStartOptions coarse{[&](const NarrowBand& b) { return level_start(b, true); }, run_options, {}, {}, {}};
+    CoarseStartOptions coarse{
+        [&](const NarrowBand& b) { return level_start(b, true); }, run_options, {}, {}, {}};
     coarse.band_progress = StageProgress(monitor, 0.0, 0.05);
     coarse.fast.progress = StageProgress(monitor, 0.05, 0.08);
     coarse.fast.cycles = StageProgress(monitor, 0.0, 0.0);

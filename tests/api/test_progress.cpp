@@ -47,8 +47,9 @@ struct Call {
 
 std::vector<Call> record_run(const Input& input, const Options& options) {
   std::vector<Call> calls;
-  perforate(input, options,
-            {[&](const Progress& p) { calls.push_back({std::string(p.stage), p.fraction, p.seconds}); }});
+  perforate(input, options, {[&](const Progress& p) {
+              calls.push_back({std::string(p.stage), p.fraction, p.seconds});
+            }});
   return calls;
 }
 
