@@ -31,9 +31,9 @@ PORESHELL_API Result perforate(const Input& input, const Options& options, const
 // What a run would cost, before running it: the model's size, the band, the time, the peak memory and
 // the output's size, and warnings worth reading first (a size that suggests a wrong unit, holes too
 // large for the model, a long run, a large output). Options are named in backquotes, as in Error. The
-// time and output size are fitted to runs on one machine (docs/benchmarks.md gives the fit and its
-// error); the memory is the estimate that `max_memory_gb` is checked against. Costs about what a run's
-// input stage costs plus a band on a grid 8 times coarser. Throws Error as perforate() would.
+// time, memory and output size are fitted to runs on one machine (docs/benchmarks.md, "Estimates",
+// gives the fits and their errors). Costs about what a run's input stage costs plus a band on a grid 8
+// times coarser. Throws Error as perforate() would.
 struct Estimate {
   Point size_mm{};  // the model's bounding box, mm (with Options::scale)
   std::array<int, 3> grid{};
