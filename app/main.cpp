@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "poreshell/poreshell.hpp"
+#include "progress_display.hpp"
 #include "summary.hpp"
 
 namespace {
@@ -114,6 +115,54 @@ std::optional<std::vector<double>> numbers(const std::string& text, std::size_t 
   return values;
 }
 
+// "--resolutoin" -> "--resolution": the flag nearest by edit distance, if it is near enough.
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+std::string unknown_argument_message(const CLI::App& app, const std::string& argument) {
+  std::string message = "unknown argument '" + argument + "'";
+  if (argument.rfind("--", 0) != 0) return message;
+  const std::string name = argument.substr(0, argument.find('='));
+  std::string best;
+  std::size_t best_distance = std::max<std::size_t>(2, name.size() / 3) + 1;  // a third of it, at least 2
+  for (const CLI::Option* option : app.get_options())
+    for (const std::string& long_name : option->get_lnames()) {
+      const std::size_t d = edit_distance(name, "--" + long_name);
+      if (d < best_distance) {
+        best_distance = d;
+        best = "--" + long_name;
+      }
+    }
+  if (!best.empty()) message += "; did you mean " + best + "?";
+  return message;
+}
+
+// The report's name of an input: its file, or the shape.
+std::string input_name(const poreshell::Input& input) {
+  if (const auto* m = std::get_if<poreshell::MeshInput>(&input)) return m->name;
+  if (const auto* p = std::get_if<poreshell::PointsInput>(&input)) return p->name;
+  return std::get<poreshell::ShapeInput>(input).kind == poreshell::ShapeKind::torus ? "torus" : "sphere";
+}
+
+// The run's estimate, its warnings naming flags.
+poreshell::Estimate estimate_with_flags(const poreshell::Input& input, const poreshell::Options& options) {
+  poreshell::Estimate e = poreshell::estimate(input, options);
+  for (std::string& warning : e.warnings) warning = with_flags(warning);
+  return e;
+}
+
 int usage_error(const std::string& message) {
   fmt::print(stderr, "poreshell: error: {} (see poreshell --help)\n", message);
   return kExitUsage;
@@ -141,6 +190,7 @@ int run(int argc, char** argv) {
   poreshell::Unit unit = poreshell::Unit::mm;
   double radius = 0.0;
   bool quiet = false;
+  std::string progress = "auto";
 
   CLI::App app{
       "poreshell: porous shells for 3D printing from the nonlocal Cahn-Hilliard equation on a narrow "
@@ -340,7 +390,17 @@ int run(int argc, char** argv) {
                  ".ply (binary); several --iso levels write OUT-isoC.ext each")
       ->type_name("OUT.stl");
   app.add_option("--report", report, "write the run's JSON report here")->type_name("OUT.json");
-  app.add_flag("-q,--quiet", quiet, "no per-step progress on stderr");
+  app.add_flag("-q,--quiet", quiet, "no progress on stderr");
+  app.add_option("--progress", progress,
+                 "progress on stderr: auto (a bar per stage with the time left on a terminal, else plain "
+                 "lines), bar, plain, or json (one object a line: stage, fraction, seconds, eta)")
+      ->check(CLI::IsMember({"auto", "bar", "plain", "json"}))
+      ->capture_default_str();
+  app.add_option("--scale", options.scale,
+                 "multiply the input's coordinates by F (after --units); lengths on the command line are "
+                 "in mm of the scaled model")
+      ->type_name("F")
+      ->check(number_above(0.0, false));
   app.add_option("--thin-features", options.thin_feature_ratio,
                  "no hole where the part is thinner than this many hole diameters (ears, fingers); 0: off")
       ->type_name("RATIO")
@@ -368,7 +428,7 @@ int run(int argc, char** argv) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
     return usage_error(e.what());
   }
-  if (!app.remaining().empty()) return usage_error("unknown argument '" + app.remaining().front() + "'");
+  if (!app.remaining().empty()) return usage_error(unknown_argument_message(app, app.remaining().front()));
   if (output.empty()) return usage_error("no output file: give -o OUT.stl");
   options.coarse_start = coarse_start == "auto";
   for (const std::string& text : keep_out) {
@@ -406,9 +466,19 @@ int run(int argc, char** argv) {
     input = poreshell::ShapeInput{
         shape_name == "torus" ? poreshell::ShapeKind::torus : poreshell::ShapeKind::sphere, radius, unit};
   }
+  print_estimate(input_name(input), estimate_with_flags(input, options));
+  ProgressDisplay display(progress_style(progress, quiet));
   poreshell::RunControl control;
-  if (!quiet) control.progress = print_progress;
-  poreshell::Result result = poreshell::perforate(input, options, control);
+  control.progress = [&display](const poreshell::Progress& p) { display(p); };
+  poreshell::Result result = [&] {
+    try {
+      return poreshell::perforate(input, options, control);
+    } catch (...) {
+      display.finish();
+      throw;
+    }
+  }();
+  display.finish();
 
   // Every mesh was built and checked before any is written; each is written to a temporary name and
   // renamed.

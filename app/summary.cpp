@@ -13,17 +13,23 @@ std::string yes_no(bool b, const char* yes, const char* no) {
 
 }  // namespace
 
-void print_progress(const poreshell::Progress& p) {
-  if (p.step == 0) return;
-  const bool energy = p.message.find("energy") != std::string_view::npos;
-  if (p.step != 1 && p.step % 10 != 0 && !energy) return;
-  fmt::print(stderr, "{}  {:.1f} s\n", p.message, p.seconds);
+void print_estimate(const std::string& input_name, const poreshell::Estimate& e) {
+  fmt::print("poreshell {}: {}\n", poreshell::version(), input_name);
+  fmt::print("  size     {:.4g} x {:.4g} x {:.4g} mm\n", e.size_mm[0], e.size_mm[1], e.size_mm[2]);
+  const std::string time =
+      e.seconds < 90.0 ? fmt::format("{:.0f} s", e.seconds) : fmt::format("{:.1f} min", e.seconds / 60.0);
+  fmt::print(
+      "  estimate about {:.3g} million band voxels on {} x {} x {} (h = {:.3g} mm): about {} on 2 cores, "
+      "peak memory {:.0f} MiB, output {:.3g} MB as STL ({:.3g} million triangles)\n",
+      e.band_voxels / 1e6, e.grid[0], e.grid[1], e.grid[2], e.voxel_size_mm, time,
+      e.peak_bytes / (1024.0 * 1024.0), e.stl_bytes / 1e6, e.triangles / 1e6);
+  for (const std::string& warning : e.warnings) fmt::print("  warning  {}\n", warning);
+  std::fflush(stdout);
 }
 
 void print_summary(const poreshell::Options& c, const poreshell::Report& r,
                    std::span<const poreshell::Output> outputs, const std::string& report) {
   const auto& d = r.grid_dims;
-  fmt::print("poreshell {}: {}\n", poreshell::version(), r.input.name);
   if (r.input.kind == "mesh")
     fmt::print("  input    {} vertices, {} triangles ({} degenerate dropped), {} boundary edges, {:.2f} s\n",
                r.input.vertices, r.input.triangles, r.input.dropped_degenerate, r.input.boundary_edges,

@@ -7,8 +7,9 @@
 
 #include "poreshell/poreshell.hpp"
 
-// Progress: the solve's first step, every tenth, and every step where the energy was evaluated.
-void print_progress(const poreshell::Progress& p);
+// The summary's first lines, before the run: the model's size and what the run will cost, and the
+// estimate's warnings (on stdout: a run that then fails still has one error line on stderr).
+void print_estimate(const std::string& input_name, const poreshell::Estimate& e);
 
 // The summary: input, grid, band, model, solver, pattern, time, memory, solid, holes and outputs.
 void print_summary(const poreshell::Options& options, const poreshell::Report& r,

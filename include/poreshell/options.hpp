@@ -62,6 +62,10 @@ struct KeepOutBox {
 };
 
 struct Options {
+  // Multiplies the input's coordinates (after its unit): 0.5 prints the model at half size. Every
+  // length below, keep-out zones included, is in millimetres of the scaled model.
+  double scale = 1.0;
+
   // Holes in millimetres (0: not given). With a diameter, the hole map chooses alpha, epsilon,
   // phi_bar, the time step, the pore level and the voxel size; the model options below are then unused.
   double hole_diameter = 0.0;

@@ -28,6 +28,25 @@ namespace poreshell {
 // thread count.
 PORESHELL_API Result perforate(const Input& input, const Options& options, const RunControl& control = {});
 
+// What a run would cost, before running it: the model's size, the band, the time, the peak memory and
+// the output's size, and warnings worth reading first (a size that suggests a wrong unit, holes too
+// large for the model, a long run, a large output). Options are named in backquotes, as in Error. The
+// time, memory and output size are fitted to runs on one machine (docs/benchmarks.md, "Estimates",
+// gives the fits and their errors). Costs about what a run's input stage costs plus a band on a grid 8
+// times coarser. Throws Error as perforate() would.
+struct Estimate {
+  Point size_mm{};  // the model's bounding box, mm (with Options::scale)
+  std::array<int, 3> grid{};
+  double voxel_size_mm = 0.0;
+  double band_voxels = 0.0;
+  double seconds = 0.0;     // the whole run, 2 threads of the calibration machine
+  double peak_bytes = 0.0;  // resident memory
+  double triangles = 0.0;   // per output level
+  double stl_bytes = 0.0;   // per output level as binary STL
+  std::vector<std::string> warnings;
+};
+PORESHELL_API Estimate estimate(const Input& input, const Options& options);
+
 PORESHELL_API const char* version();
 
 }  // namespace poreshell

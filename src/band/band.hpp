@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "core/grid.hpp"
+#include "core/run_monitor.hpp"
 #include "core/trilinear.hpp"
 #include "geometry/surface.hpp"
 
@@ -28,6 +29,7 @@ enum class ClosestPointRule {
 struct BandOptions {
   double delta_in_h = 1.1 * 1.7320508075688772;  // delta / h
   ClosestPointRule closest_point = ClosestPointRule::exact;
+  StageProgress progress{};  // the build's share of its stage: checked and reported in its long loops
 };
 
 // The trilinear stencil at a ghost's closest point. Corner c = di + 2 dj + 4 dk of the cell is the band

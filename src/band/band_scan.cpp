@@ -7,9 +7,11 @@
 #include <cmath>
 #include <limits>
 
+#include "core/parallel.hpp"
+
 namespace poreshell {
 
-NearField::NearField(const Surface& surface, const Grid& grid, double reach)
+NearField::NearField(const Surface& surface, const Grid& grid, double reach, const StageProgress& progress)
     : grid_(grid), exact_(surface.closest_point_is_exact()) {
   const auto& d = grid.dims();
   for (std::size_t a = 0; a < 3; ++a) blocks_per_axis_[a] = (d[a] + kBlock - 1) / kBlock;
@@ -19,7 +21,7 @@ NearField::NearField(const Surface& surface, const Grid& grid, double reach)
                       -1);
   rows_.resize(static_cast<std::size_t>(blocks_per_axis_[1]) * static_cast<std::size_t>(blocks_per_axis_[2]));
   std::vector<std::int64_t> scanned(rows_.size(), 0);
-  tbb::parallel_for(std::size_t{0}, rows_.size(), [&](std::size_t r) {
+  monitored_for(rows_.size(), progress, [&](std::size_t r) {
     Row& row = rows_[r];
     const auto bj = static_cast<int>(r % static_cast<std::size_t>(blocks_per_axis_[1]));
     const auto bk = static_cast<int>(r / static_cast<std::size_t>(blocks_per_axis_[1]));

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "core/grid.hpp"
+#include "core/run_monitor.hpp"
 #include "geometry/surface.hpp"
 
 namespace poreshell {
@@ -60,7 +61,7 @@ class NearField {
  public:
   static constexpr int kBlock = 8;
 
-  NearField(const Surface& surface, const Grid& grid, double reach);
+  NearField(const Surface& surface, const Grid& grid, double reach, const StageProgress& progress = {});
 
   // psi at c, or NaN where c is beyond reach or outside the grid.
   double psi(const Coord& c) const;

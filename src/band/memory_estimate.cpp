@@ -14,10 +14,6 @@
 namespace poreshell {
 namespace {
 
-// Peak bytes of a whole run per band voxel, measured over the bunny scaling series (docs/benchmarks.md:
-// 1.1-1.5 kB, the shell and its mesh included).
-constexpr double kPeakBytesPerBandVoxel = 1300.0;
-
 // MemAvailable from /proc/meminfo, else the physical memory.
 double available_memory_bytes() {
   std::ifstream meminfo("/proc/meminfo");

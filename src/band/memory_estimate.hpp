@@ -6,6 +6,10 @@
 
 namespace poreshell {
 
+// Peak bytes of a whole run per band voxel, measured over the bunny scaling series (docs/benchmarks.md:
+// 1.1-1.5 kB, the shell and its mesh included).
+inline constexpr double kPeakBytesPerBandVoxel = 1300.0;
+
 struct BandEstimate {
   double voxels = 0.0;      // band voxels on the fine grid (0: no estimate, the run is small)
   double peak_bytes = 0.0;  // of the whole run

@@ -35,6 +35,7 @@
 #include <stdexcept>
 
 #include "core/error.hpp"
+#include "core/parallel.hpp"
 
 namespace poreshell {
 namespace {
@@ -330,13 +331,17 @@ std::array<int, 256> euler_per_corner_mask() {
 
 }  // namespace
 
-std::int64_t isosurface_euler_characteristic(const SparseField& field, double iso) {
+std::int64_t isosurface_euler_characteristic(const SparseField& field, double iso,
+                                             const StageProgress& progress) {
   const PaddedGrid grid = checked_grid(field, iso);
   const FieldLookup lookup = sorted_field(field, grid);
+  progress.advance(0.1);
   static const std::array<int, 256> table = euler_per_corner_mask();
+  LoopProgress loop(progress.part(0.1, 1.0), lookup.keys.size());
   const std::int64_t solid = tbb::parallel_reduce(
       tbb::blocked_range<std::size_t>(0, lookup.keys.size()), std::int64_t{0},
       [&](const tbb::blocked_range<std::size_t>& r, std::int64_t sum) {
+        progress.check();
         CornerReader corners(lookup, grid, lookup.keys[r.begin()]);
         for (std::size_t p = r.begin(); p != r.end(); ++p) {
           if (!(lookup.values[p] < iso)) continue;
@@ -345,15 +350,17 @@ std::int64_t isosurface_euler_characteristic(const SparseField& field, double is
           for (int c = 0; c < 8; ++c) mask |= (v[static_cast<std::size_t>(c)] < iso) << c;
           sum += table[static_cast<std::size_t>(mask)];
         }
+        loop.done(r.size());
         return sum;
       },
       std::plus<>());
   return 2 * solid;
 }
 
-TriangleMesh extract_isosurface(const SparseField& field, double iso) {
+TriangleMesh extract_isosurface(const SparseField& field, double iso, const StageProgress& progress) {
   const PaddedGrid grid = checked_grid(field, iso);
   const FieldLookup lookup = sorted_field(field, grid);
+  progress.advance(0.05);
 
   // Only cubes with an inside corner can hold surface: the 8 cubes around each inside point. Cubes are
   // named by their lowest corner's key and made in chunks of consecutive key ranges, each from the
@@ -405,7 +412,7 @@ TriangleMesh extract_isosurface(const SparseField& field, double iso) {
   std::vector<std::size_t> first_triangle(chunks + 1, 0);
   std::vector<std::vector<std::int64_t>> used(chunks);           // the names each chunk's cubes own
   std::vector<std::vector<std::int64_t>> surface_cells(chunks);  // each chunk's cubes with triangles
-  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+  monitored_for(chunks, progress.part(0.05, 0.6), [&](std::size_t c) {
     std::vector<EdgeTriangle> triangles;
     const std::vector<std::int64_t> cells = chunk_cells(c);
     CornerReader corners(lookup, grid, cells.empty() ? 0 : cells.front());
@@ -442,7 +449,7 @@ TriangleMesh extract_isosurface(const SparseField& field, double iso) {
   TriangleMesh mesh;
   mesh.vertices.resize(vertex_count);
   const Grid& g = *field.grid;
-  tbb::parallel_for(std::size_t{0}, vertex_count, [&](std::size_t i) {
+  monitored_for(vertex_count, progress.part(0.6, 0.7), [&](std::size_t i) {
     const std::int64_t lower = names[i] / 8;
     const int bits = static_cast<int>(names[i] % 8);
     const std::int64_t upper = lower + grid.offset(bits);
@@ -451,7 +458,7 @@ TriangleMesh extract_isosurface(const SparseField& field, double iso) {
   });
 
   mesh.triangles.resize(first_triangle[chunks]);
-  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+  monitored_for(chunks, progress.part(0.7, 1.0), [&](std::size_t c) {
     std::vector<EdgeTriangle> triangles;
     const std::int64_t first_cell = surface_cells[c].empty() ? 0 : surface_cells[c].front();
     CornerReader corners(lookup, grid, first_cell);

@@ -6,6 +6,7 @@
 #include <span>
 
 #include "core/grid.hpp"
+#include "core/run_monitor.hpp"
 #include "geometry/mesh.hpp"
 
 namespace poreshell {
@@ -18,12 +19,13 @@ struct SparseField {
 };
 
 // Requires background > iso (the solid is bounded). The result is closed and 2-manifold.
-TriangleMesh extract_isosurface(const SparseField& field, double iso);
+TriangleMesh extract_isosurface(const SparseField& field, double iso, const StageProgress& progress = {});
 
 // The Euler characteristic of extract_isosurface(field, iso) without making it: the solid {value <
 // iso} retracts onto the simplices of the cubes' Kuhn triangulation whose corners are all inside, and a
 // closed surface bounding a solid has twice the solid's characteristic. One pass over the inside points
 // (vertices - edges + triangles - tetrahedra that start at each), no mesh.
-std::int64_t isosurface_euler_characteristic(const SparseField& field, double iso);
+std::int64_t isosurface_euler_characteristic(const SparseField& field, double iso,
+                                             const StageProgress& progress = {});
 
 }  // namespace poreshell

@@ -256,7 +256,7 @@ std::vector<Edge> boundary_edges(std::size_t vertex_count, const std::vector<Tri
   return out;
 }
 
-MeshTopology analyze_topology(const TriangleMesh& mesh) {
+MeshTopology analyze_topology(const TriangleMesh& mesh, const StageProgress& progress) {
   MeshTopology topo;
   const std::size_t nf = mesh.triangles.size();
   const std::size_t nv = mesh.vertices.size();
@@ -297,7 +297,9 @@ MeshTopology analyze_topology(const TriangleMesh& mesh) {
   topo.degenerate_triangles = tc.repeated_index + tc.zero_area;
   topo.min_angle_degrees = nf ? std::acos(std::clamp(tc.min_cos, -1.0, 1.0)) * 180.0 / std::numbers::pi : 0.0;
 
+  progress.advance(0.2);
   const VertexTriangles at = vertex_triangles(nv, mesh.triangles);
+  progress.advance(0.4);
   {
     ConcurrentDisjointSets components(nf);
     const VertexCounts counts = count_at_vertices(nv, mesh.triangles, at, &components, false);
@@ -315,6 +317,7 @@ MeshTopology analyze_topology(const TriangleMesh& mesh) {
         },
         std::plus<>());
   }
+  progress.advance(0.8);
   // A vertex counts if any triangle uses it, one with a repeated index included.
   std::vector<char> used(nv, 0);
   tbb::parallel_for(std::size_t{0}, nv, [&](std::size_t v) { used[v] = at.start[v + 1] > at.start[v]; });
@@ -325,6 +328,7 @@ MeshTopology analyze_topology(const TriangleMesh& mesh) {
   topo.vertices = std::count(used.begin(), used.end(), char{1});
   topo.euler_characteristic = topo.vertices - topo.edges + topo.triangles;
 
+  progress.advance(0.9);
   // Divergence theorem about a point of the mesh: fewer cancelling digits than about the origin. Summed
   // in fixed blocks, then the blocks in order, so the result does not depend on the thread count.
   if (nf > 0) {

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/run_monitor.hpp"
 #include "core/types.hpp"
 
 namespace poreshell {
@@ -63,6 +64,6 @@ inline std::vector<Edge> boundary_edges(const TriangleMesh& mesh) {
 
 // Throws std::out_of_range for a vertex index outside the mesh. The result does not depend on the order
 // of the triangles or the thread count.
-MeshTopology analyze_topology(const TriangleMesh& mesh);
+MeshTopology analyze_topology(const TriangleMesh& mesh, const StageProgress& progress = {});
 
 }  // namespace poreshell

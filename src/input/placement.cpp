@@ -112,7 +112,7 @@ void place_points(const PointsInput& in, const Options& c, PlacedSurface& placed
   placed.input.triangles = static_cast<std::int64_t>(patches.size());
   placed.input.point_route = c.point_route == PointRoute::direct ? "direct" : "paper";
   placed.input.units = to_string(in.unit);
-  placed.input.millimetres_per_unit = millimetres_per(in.unit);
+  placed.input.millimetres_per_unit = millimetres_per(in.unit) * c.scale;
   check_not_collinear(points, "the point cloud '" + in.name + "'");
   fit_to_unit_grid(points, c, "the point cloud '" + in.name + "'", placed);
   if (c.point_route == PointRoute::direct) {
@@ -139,7 +139,7 @@ void place_shape(const ShapeInput& in, const Options& c, PlacedSurface& placed) 
   placed.input.name = name;
   placed.input.euler_characteristic = in.kind == ShapeKind::torus ? 0 : 2;
   placed.input.units = to_string(in.unit);
-  placed.input.millimetres_per_unit = millimetres_per(in.unit);
+  placed.input.millimetres_per_unit = millimetres_per(in.unit) * c.scale;
   if (in.radius_mm > 0.0) {  // in millimetres, centred at the origin
     placed.input.scale = kPaperShapeRadius / in.radius_mm;
     placed.input_center = Vec3::Zero();
@@ -161,7 +161,7 @@ void place_mesh(const MeshInput& in, const Options& c, PlacedSurface& placed) {
                   analyze_topology(mesh).euler_characteristic,
                   1.0};
   placed.input.units = to_string(in.unit);
-  placed.input.millimetres_per_unit = millimetres_per(in.unit);
+  placed.input.millimetres_per_unit = millimetres_per(in.unit) * c.scale;
   fit_to_unit_grid(mesh.vertices, c, "the mesh '" + in.name + "'", placed);
   placed.surface = std::make_unique<MeshSurface>(mesh);
   placed.mesh = std::move(mesh);

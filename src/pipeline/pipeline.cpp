@@ -60,7 +60,7 @@ HoleStats hole_stats_mm(const NarrowBand& band, std::span<const double> phi, dou
 // The shell's samples: wall and offset from mm to grid units.
 ShellSamples sample_printable_shell(const Options& c, const PlacedSurface& placed, const NarrowBand& band,
                                     std::span<const double> phi, const SideFunction& side,
-                                    PipelineResult& result) {
+                                    PipelineResult& result, const StageProgress& progress) {
   const auto start = std::chrono::steady_clock::now();
   const double mm_per_grid = placed.mm_per_grid();
   ShellOptions options;
@@ -68,6 +68,7 @@ ShellSamples sample_printable_shell(const Options& c, const PlacedSurface& place
   options.offset = c.offset;
   options.pattern_length = 4.0 * std::sqrt(2.0) * result.model.epsilon;  // see shell.hpp
   options.side = side;
+  options.progress = progress;
   ShellSamples samples = sample_shell(*placed.surface, band, phi, options);
   SolidSummary& s = result.solid;
   s.spacing_mm = samples.grid.h() * mm_per_grid;
@@ -148,7 +149,9 @@ PipelineResult run_pipeline(const Input& input, const Options& given, RunMonitor
   monitor.stage("band");
   t = std::chrono::steady_clock::now();
   // Optional so that shell mode can free it before meshing, the stage with the largest footprint.
-  std::optional<NarrowBand> band_storage(build_band(*placed.surface, grid));
+  BandOptions band_options;
+  band_options.progress = StageProgress(monitor);
+  std::optional<NarrowBand> band_storage(build_band(*placed.surface, grid, band_options));
   const NarrowBand& band = *band_storage;
   release_free_memory();
   result.seconds_band = seconds_since(t);
@@ -193,7 +196,8 @@ PipelineResult run_pipeline(const Input& input, const Options& given, RunMonitor
   std::optional<ShellSamples> shell;  // freed once the last level is meshed
   if (shell_mode) {
     make_side_test(options.offset, placed, grid.h(), side);
-    shell = sample_printable_shell(options, placed, band, phi, side.side, result);
+    shell = sample_printable_shell(options, placed, band, phi, side.side, result,
+                                   StageProgress(monitor, 0.0, 0.6));
   } else {
     result.solid.spacing_mm = grid.h() * placed.mm_per_grid();
   }
@@ -207,11 +211,13 @@ PipelineResult run_pipeline(const Input& input, const Options& given, RunMonitor
     out.holes = hole_stats_mm(band, phi, iso, placed);
     out.spots_at_iso = static_cast<std::int64_t>(out.holes.holes.size());  // every spot is a hole
     result.meshes.push_back(std::move(out));
+    monitor.advance(0.65);
   }
   std::vector<std::vector<WallProbe>> probes;
   if (shell_mode) {
     for (double iso : options.iso)
       probes.push_back(wall_probes(placed, band, phi, iso, result.solid.wall_mm, options.offset, side.side));
+    monitor.advance(0.7);
     phi = {};
     band_storage.reset();  // `band` is not used below in shell mode
     release_free_memory();
@@ -221,29 +227,39 @@ PipelineResult run_pipeline(const Input& input, const Options& given, RunMonitor
   // holes narrower than about 2 delta (a scan's small holes) and may merge close sheets; counted from the
   // samples (isosurface_euler_characteristic), not from a mesh that is not made.
   if (shell_mode) {
-    result.unperforated_euler = unperforated_shell_euler(*shell);
+    result.unperforated_euler = unperforated_shell_euler(*shell, StageProgress(monitor, 0.7, 1.0));
   } else {
     const std::vector<double> solid(band.size(), -1.0);
     result.unperforated_euler = narrow_volume_euler(band, solid, 0.0);
   }
   monitor.stage("mesh");
   for (std::size_t level = 0; level < options.iso.size(); ++level) {
+    // Each level's share of the stage: the isosurface, the reduction if asked, the checks.
+    const auto levels = static_cast<double>(options.iso.size());
+    const StageProgress share(monitor, static_cast<double>(level) / levels,
+                              static_cast<double>(level + 1) / levels);
+    const double meshed = options.max_triangles > 0 ? 0.3 : 0.6,
+                 reduced = options.max_triangles > 0 ? 0.8 : 0.6;
     MeshOutput& out = result.meshes[level];
-    out.mesh = shell_mode ? shell_mesh(*shell, out.iso) : narrow_volume_mesh(band, phi, out.iso);
+    out.mesh = shell_mode ? shell_mesh(*shell, out.iso, share.part(0.0, meshed))
+                          : narrow_volume_mesh(band, phi, out.iso);
     if (level + 1 == options.iso.size()) shell.reset();  // the samples, before the checks
-    monitor.advance((static_cast<double>(level) + 0.5) / static_cast<double>(options.iso.size()));
+    share.advance(meshed);
     for (Vec3& v : out.mesh.vertices) v = placed.to_mm(v);
     if (!options.keep_fragments) out.parts = keep_main_parts(out.mesh, options.min_part_fraction);
     if (options.max_triangles > 0)
-      out.reduction = decimate_mesh(out.mesh, {options.max_triangles, options.max_deviation});
-    out.topology = analyze_topology(out.mesh);
+      out.reduction = decimate_mesh(
+          out.mesh, {options.max_triangles, options.max_deviation, share.part(meshed, reduced)});
+    out.topology = analyze_topology(out.mesh, share.part(reduced, 0.9));
     out.pores_from_euler = (result.unperforated_euler - out.topology.euler_characteristic) / 2;
     check_printable(out.topology, out.iso);
+    share.advance(0.9);
     if (shell_mode) out.wall = measure_wall(out.mesh, probes[level], 4.0 * result.solid.wall_mm);
     monitor.check();
     out.hole_table = output_hole_table(out.mesh, out.holes, placed, grid.h(), result.solid.wall_mm,
                                        result.solid.spacing_mm,
                                        shell_mode ? options.offset : WallOffset::centered, side.side);
+    share.advance(1.0);
   }
   result.seconds_mesh = seconds_since(t);
   result.seconds_total = seconds_since(start);

@@ -30,6 +30,7 @@ std::string mm(double x) {
 }  // namespace
 
 void validate(const Options& c) {
+  require(c.scale > 0.0 && finite(c.scale), "scale", "`scale` must be a positive factor (1: as given)");
   require(c.resolution >= 9, "resolution",
           "`resolution` must be at least 9 grid points along the longest side");
   require(c.resolution <= 2048, "resolution", "`resolution` above 2048 is not supported");

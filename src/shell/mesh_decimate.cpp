@@ -19,6 +19,7 @@
 #include <OpenMesh/Tools/Decimater/DecimaterT.hh>
 #include <OpenMesh/Tools/Decimater/ModHausdorffT.hh>
 #include <OpenMesh/Tools/Decimater/ModQuadricT.hh>
+#include <OpenMesh/Tools/Decimater/Observer.hh>
 
 #include <algorithm>
 #include <array>
@@ -445,13 +446,36 @@ void to_openmesh(const TriangleMesh& mesh, OMesh& om) {
   om.request_face_status();
 }
 
-void collapse_edges(OMesh& om, std::int64_t max_triangles, const Original& original, double tolerance) {
+// Reports the collapses' progress and stops the decimater when the run is cancelled (an exception
+// thrown through OpenMesh would leave its state to its destructors; this stops it cleanly).
+class CollapseObserver : public OpenMesh::Decimater::Observer {
+ public:
+  CollapseObserver(const StageProgress& progress, std::size_t collapses)
+      : Observer(1000), progress_(progress), collapses_(collapses) {}
+  void notify(std::size_t step) override {
+    if (collapses_ > 0) progress_.advance(static_cast<double>(step) / static_cast<double>(collapses_));
+  }
+  bool abort() const override { return progress_.cancelled(); }
+
+ private:
+  StageProgress progress_;
+  std::size_t collapses_;
+};
+
+void collapse_edges(OMesh& om, std::int64_t max_triangles, const Original& original, double tolerance,
+                    const StageProgress& progress) {
   OpenMesh::Decimater::DecimaterT<OMesh> decimater(om);
   ModBounded::Handle bounded;
   decimater.add(bounded);
   decimater.module(bounded).set_bounds(&original, tolerance);
   if (!decimater.initialize()) throw std::runtime_error("mesh decimation: OpenMesh decimater setup failed");
-  decimater.decimate_to_faces(0, static_cast<std::size_t>(max_triangles));
+  // Each collapse removes two triangles.
+  const std::size_t faces = om.n_faces(), target = static_cast<std::size_t>(max_triangles);
+  CollapseObserver observer(progress, faces > target ? (faces - target) / 2 : 0);
+  decimater.set_observer(&observer);
+  decimater.decimate_to_faces(0, target);
+  decimater.set_observer(nullptr);
+  progress.check();
 }
 
 // The triangles left, in their original order, over the vertices they use, in their original order.
@@ -532,7 +556,8 @@ DecimateResult decimate_mesh(TriangleMesh& mesh, const DecimateOptions& options)
   result.reached_target = result.triangles_before <= options.max_triangles;
   if (result.reached_target) return result;
 
-  const MeshTopology before = analyze_topology(mesh);
+  const StageProgress& progress = options.progress;
+  const MeshTopology before = analyze_topology(mesh, progress.part(0.0, 0.05));
   if (const std::string problem = printability_failures(before); !problem.empty())
     throw std::runtime_error(
         "mesh decimation needs a closed, manifold, outward oriented mesh; this one has " + problem);
@@ -541,14 +566,20 @@ DecimateResult decimate_mesh(TriangleMesh& mesh, const DecimateOptions& options)
   const double volume_tolerance = options.max_distance * surface_area(mesh);
   const MeshSurface original_surface(mesh);
   const Original original(mesh, original_surface);
+  progress.advance(0.1);
 
   double tolerance = options.max_distance;
   for (int attempt = 0; attempt < kAttempts; ++attempt) {
+    // Attempts after the first are rare: each gets the rest of the share from where the last ended.
+    const StageProgress part = progress.part(0.1 + 0.9 * (1.0 - std::pow(0.5, attempt)),
+                                             0.1 + 0.9 * (1.0 - std::pow(0.5, attempt + 1)));
     OMesh om;
     to_openmesh(mesh, om);
-    collapse_edges(om, options.max_triangles, original, tolerance);
+    collapse_edges(om, options.max_triangles, original, tolerance, part.part(0.0, 0.8));
     TriangleMesh reduced = from_openmesh(om, mesh);
+    part.advance(0.85);
     const double distance = two_sided_distance(original_surface, mesh, reduced);
+    part.advance(0.95);
     if (distance > options.max_distance) {
       tolerance *= 0.9 * options.max_distance / distance;
       continue;

@@ -17,6 +17,7 @@ struct DecimateOptions {
   // units; > 0. Keep it well below half the thinnest wall, so that the two sides of a wall cannot
   // meet.
   double max_distance = 0.0;
+  StageProgress progress{};  // the reduction's share of its stage (checked, reported)
 };
 
 struct DecimateResult {

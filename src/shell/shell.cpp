@@ -7,6 +7,7 @@
 
 #include "band/band_scan.hpp"
 #include "core/error.hpp"
+#include "core/parallel.hpp"
 #include "geometry/isosurface.hpp"
 
 namespace poreshell {
@@ -121,7 +122,7 @@ ShellSamples sample_shell(const Surface& surface, const NarrowBand& band, std::s
                                 (dims[2] + kTopBlock - 1) / kTopBlock};
   const std::size_t top_count = std::size_t(tops[0]) * std::size_t(tops[1]) * std::size_t(tops[2]);
   std::vector<std::vector<Sample>> per_block(top_count);
-  tbb::parallel_for(std::size_t{0}, top_count, [&](std::size_t b) {
+  monitored_for(top_count, options.progress.part(0.0, 0.9), [&](std::size_t b) {
     const Coord origin{static_cast<int>(b % std::size_t(tops[0])) * kTopBlock,
                        static_cast<int>((b / std::size_t(tops[0])) % std::size_t(tops[1])) * kTopBlock,
                        static_cast<int>(b / (std::size_t(tops[0]) * std::size_t(tops[1]))) * kTopBlock};
@@ -144,7 +145,7 @@ ShellSamples sample_shell(const Surface& surface, const NarrowBand& band, std::s
   out.wall.resize(total);
   out.pattern.resize(total);
   std::vector<std::int64_t> incomplete(static_cast<std::size_t>(tops[2]), 0);
-  tbb::parallel_for(std::size_t{0}, static_cast<std::size_t>(tops[2]), [&](std::size_t l) {
+  monitored_for(static_cast<std::size_t>(tops[2]), options.progress.part(0.9, 1.0), [&](std::size_t l) {
     const std::size_t blocks_in_layer = std::size_t(tops[0]) * std::size_t(tops[1]);
     std::vector<std::size_t> cursor(blocks_in_layer, 0);
     std::size_t n = layer_first[l];
@@ -168,13 +169,14 @@ ShellSamples sample_shell(const Surface& surface, const NarrowBand& band, std::s
   return out;
 }
 
-TriangleMesh shell_mesh(const ShellSamples& samples, double iso) {
+TriangleMesh shell_mesh(const ShellSamples& samples, double iso, const StageProgress& progress) {
   std::vector<double> values(samples.points.size());
   tbb::parallel_for(std::size_t{0}, values.size(), [&](std::size_t n) {
     values[n] = std::max(samples.wall[n], samples.pattern_length * (samples.pattern[n] - iso));
   });
+  progress.check();
   const SparseField field{&samples.grid, samples.points, values, samples.grid.h()};
-  return extract_isosurface(field, 0.0);
+  return extract_isosurface(field, 0.0, progress);
 }
 
 TriangleMesh unperforated_shell_mesh(const ShellSamples& samples) {
@@ -182,9 +184,9 @@ TriangleMesh unperforated_shell_mesh(const ShellSamples& samples) {
   return extract_isosurface(field, 0.0);
 }
 
-std::int64_t unperforated_shell_euler(const ShellSamples& samples) {
+std::int64_t unperforated_shell_euler(const ShellSamples& samples, const StageProgress& progress) {
   const SparseField field{&samples.grid, samples.points, samples.wall, samples.grid.h()};
-  return isosurface_euler_characteristic(field, 0.0);
+  return isosurface_euler_characteristic(field, 0.0, progress);
 }
 
 }  // namespace poreshell

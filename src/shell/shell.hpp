@@ -19,6 +19,7 @@
 
 #include "band/band.hpp"
 #include "core/grid.hpp"
+#include "core/run_monitor.hpp"
 #include "geometry/mesh.hpp"
 #include "geometry/surface.hpp"
 #include "poreshell/options.hpp"
@@ -41,6 +42,7 @@ struct ShellOptions {
   // Needed for inside/outside when the surface's distance is unsigned; empty: the sign of
   // Surface::distance is used.
   SideFunction side;
+  StageProgress progress{};  // the sampling's share of its stage (checked, reported)
 };
 
 inline constexpr double kMinCellsAcrossWall = 3.0;
@@ -59,12 +61,12 @@ ShellSamples sample_shell(const Surface& surface, const NarrowBand& band, std::s
                           const ShellOptions& options);
 
 // The solid { wall < 0 and phi_ext < iso }, closed and outward oriented.
-TriangleMesh shell_mesh(const ShellSamples& samples, double iso);
+TriangleMesh shell_mesh(const ShellSamples& samples, double iso, const StageProgress& progress = {});
 
 // The wall without pores: the reference for counting pores by the Euler characteristic.
 TriangleMesh unperforated_shell_mesh(const ShellSamples& samples);
 // Its Euler characteristic, without making it.
-std::int64_t unperforated_shell_euler(const ShellSamples& samples);
+std::int64_t unperforated_shell_euler(const ShellSamples& samples, const StageProgress& progress = {});
 
 // phi at an arbitrary point of the band's grid by trilinear interpolation of band values (the same rule
 // as the ghosts' stencils). Corners outside the band are left out and the weights renormalised;

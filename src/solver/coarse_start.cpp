@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "core/parallel.hpp"
 #include "pattern/pattern.hpp"
 
 namespace poreshell {
@@ -19,7 +20,9 @@ std::vector<double> coarse_start(const Surface& surface, const Grid& grid, const
                                  const ModelParameters& model, double dt, const CoarseStartOptions& options,
                                  CoarseLevel& report) {
   const auto start = std::chrono::steady_clock::now();
-  const NarrowBand coarse = build_band(surface, grid);
+  BandOptions band_options;
+  band_options.progress = options.band_progress;
+  const NarrowBand coarse = build_band(surface, grid, band_options);
   LevelStart level = options.start(coarse);
   {
     FastSolver solver(coarse, model, dt, options.fast);
@@ -37,7 +40,7 @@ std::vector<double> coarse_start(const Surface& surface, const Grid& grid, const
   // Each fine voxel takes the coarse pattern's value at its closest point. The surface lies inside the
   // coarse band, more than a cell from its edge, so every stencil is complete.
   std::vector<double> phi(fine.size());
-  tbb::parallel_for(std::size_t{0}, fine.size(), [&](std::size_t v) {
+  monitored_for(fine.size(), options.carry_progress, [&](std::size_t v) {
     phi[v] = interpolation_stencil(coarse, fine.closest_point(v)).interpolate(level.phi);
   });
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

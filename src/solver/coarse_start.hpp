@@ -40,6 +40,9 @@ struct CoarseStartOptions {
   FastOptions fast;
   // The coarse run's own stop rule for its band (RunOptions::stop), when the run is not the paper's.
   std::function<std::function<bool(int, std::span<const double>)>(const NarrowBand&)> stop;
+  // Shares of the solve stage: the coarse band, its solver's set-up (fast.progress), its run (the run's
+  // on_step reports), the carry to the fine band.
+  StageProgress band_progress{}, carry_progress{};
 };
 
 // The coarse run ends at this share of the fine run's tolerance. The paper's e_c = 1e-3 is reached in

@@ -55,9 +55,11 @@ FastSolver::FastSolver(const NarrowBand& band, const ModelParameters& model, dou
       options_(options),
       multigrid_(
           (validate(model, dt), band),
-          shifts_for(model, dt, std::max(kLargestStabilisation, smallest_real_stabilisation(model, dt))).z1) {
+          shifts_for(model, dt, std::max(kLargestStabilisation, smallest_real_stabilisation(model, dt))).z1,
+          options.progress) {
   if (!(options_.tolerance > 0.0)) throw InputError("the fast solver's tolerance must be positive");
   if (!(options_.min_stabilisation >= 0.0)) throw InputError("the stabilisation floor must be >= 0");
+  multigrid_.set_progress(options_.cycles);
   extended_.assign(band.extended_size(), 0.0);
   rhs_.assign(band.size(), 0.0);
   y_.assign(band.size(), 0.0);

@@ -29,6 +29,8 @@ struct FastOptions {
   double min_stabilisation = 0.0;  // floor on S (the stability bound and real shifts apply regardless)
   double tolerance = 1e-3;         // max-norm bound on the error of phi^{n+1} from the linear solves
   int max_cycles = 60;             // V-cycles per shifted solve
+  StageProgress progress{};        // the set-up's share of its stage (the multigrid hierarchy)
+  StageProgress cycles{};          // checked before every V-cycle (a share of none: fraction unchanged)
 };
 
 class FastSolver final : public TimeStepper {

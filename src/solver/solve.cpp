@@ -86,6 +86,8 @@ SolveResult solve_pattern(const Options& c, const std::optional<PatternPlan>& pl
     return [stop = current_stop](int step, std::span<const double> phi) { return stop->settled(step, phi); };
   };
   double first_ec = 0.0;
+  // The stage's share the current run's steps fill (with a coarse start: its run, then the fine one).
+  double share_begin = 0.0, share_end = 1.0;
   const auto report_step = [&](const StepProgress& p) {
     if (p.step == 1) first_ec = p.ec;
     char energy[48] = "";
@@ -102,18 +104,29 @@ SolveResult solve_pattern(const Options& c, const std::optional<PatternPlan>& pl
                   static_cast<long long>(p.inner.inner_iterations),
                   p.inner.converged ? "" : " (not converged)", holes);
     // Every step is reported (a step takes milliseconds to seconds); the front end chooses what to show.
-    const double fraction =
-        current_stop ? std::max(current_stop->progress(), static_cast<double>(p.step) / c.max_steps)
-                     : solve_fraction(first_ec, p.ec, c.tolerance, p.step, c.max_steps);
-    monitor.advance(fraction, line, p.step, true);
+    const double f = current_stop
+                         ? std::max(current_stop->progress(), static_cast<double>(p.step) / c.max_steps)
+                         : solve_fraction(first_ec, p.ec, c.tolerance, p.step, c.max_steps);
+    monitor.advance(share_begin + f * (share_end - share_begin), line, p.step, true);
   };
   run_options.on_step = report_step;
   const bool fast = c.solver == SolverKind::fast;
   const std::optional<Grid> coarse_grid =
       fast && c.coarse_start ? pattern_grid(*placed.surface, grid.h(), result.model.epsilon) : std::nullopt;
+  // Shares of the stage, from runs of the bunny: with a coarse start its band, set-up, run and carry take
+  // about half, the fine set-up a few percent, the fine run the rest.
+  const double fine_setup = coarse_grid ? 0.5 : 0.0, fine_steps = fine_setup + 0.05;
   LevelStart fine_start = level_start(band, !coarse_grid);
+  monitor.check();
   if (coarse_grid) {
-    CoarseStartOptions coarse{[&](const NarrowBand& b) { return level_start(b, true); }, run_options, {}, {}};
+    CoarseStartOptions coarse{
+        [&](const NarrowBand& b) { return level_start(b, true); }, run_options, {}, {}, {}, {}};
+    coarse.band_progress = StageProgress(monitor, 0.0, 0.05);
+    coarse.fast.progress = StageProgress(monitor, 0.05, 0.08);
+    coarse.fast.cycles = StageProgress(monitor, 0.0, 0.0);
+    coarse.carry_progress = StageProgress(monitor, 0.48, 0.5);
+    share_begin = 0.08;
+    share_end = 0.48;
     coarse.fast.tolerance = c.fast_tolerance;
     coarse.fast.min_stabilisation = c.min_stabilisation;
     coarse.run.energy_every = 0;
@@ -140,6 +153,8 @@ SolveResult solve_pattern(const Options& c, const std::optional<PatternPlan>& pl
     FastOptions options;
     options.tolerance = c.fast_tolerance;
     options.min_stabilisation = c.min_stabilisation;
+    options.progress = StageProgress(monitor, fine_setup, fine_steps);
+    options.cycles = StageProgress(monitor, 0.0, 0.0);
     auto solver_fast = std::make_unique<FastSolver>(band, result.model, result.dt, options);
     if (!fine_start.mean_field.empty()) solver_fast->set_mean_field(std::move(fine_start.mean_field));
     result.solver_bytes = solver_fast->memory_bytes();
@@ -147,6 +162,8 @@ SolveResult solve_pattern(const Options& c, const std::optional<PatternPlan>& pl
     result.inner_iteration = "multigrid";
   }
   monitor.check();
+  share_begin = fine_steps;
+  share_end = 1.0;
   result.solver_name = solver->name();
   // The energy's Poisson factorisation costs about 6 s at 73k band voxels and 70 s / 2 GB at 290k:
   // energy_every 0 skips it for large runs.

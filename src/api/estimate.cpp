@@ -1,0 +1,132 @@
+// The public API's estimate(): a run's size, cost and sanity before it runs, from the input placed on
+// its grid and the band counted on a grid 8 times coarser (band/memory_estimate.hpp). The time and
+// output constants are fitted to runs on the development machine (docs/benchmarks.md).
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <variant>
+
+#include "band/band.hpp"
+#include "band/memory_estimate.hpp"
+#include "core/error.hpp"
+#include "input/placement.hpp"
+#include "pattern/hole_map.hpp"
+#include "pipeline/validate.hpp"
+#include "poreshell/poreshell.hpp"
+#include "shell/shell.hpp"
+
+namespace poreshell {
+namespace {
+
+// docs/benchmarks.md, "Estimates": fits to the whole-run times of the bunny series there (2 threads,
+// quiet hours). With epsilon tied to h (no hole size asked) the pores shrink with the voxels and the steps
+// grow: t = 5.5 s (V / 133k)^1.67. With holes in mm the pattern's scale is fixed (and formed on a coarser
+// grid where the voxels are finer): t = 3 s + 21.7 us V.
+constexpr double kSecondsAtReference = 5.5, kReferenceVoxels = 133356.0, kVoxelExponent = 1.67;
+constexpr double kSecondsFixed = 3.0, kSecondsPerBandVoxel = 21.7e-6;
+// Peak resident memory of the bunny series at bc095dd: 89, 183, 659 and 1656 MiB at 133k-6.05M band
+// voxels. (`max_memory_gb` is checked against the cautious 1300 B a voxel of band/memory_estimate.hpp.)
+constexpr double kPeakFixedBytes = 50.0 * 1024 * 1024, kPeakBytesPerVoxel = 275.0;
+constexpr double kTrianglesPerShellCell = 4.8;  // per band voxel, times (h / shell spacing)^2
+constexpr double kStlBytesPerTriangle = 50.0;
+constexpr double kStlHeaderBytes = 84.0;
+
+// Thresholds of the warnings: the size a print usually has, and a cost worth a second thought.
+constexpr double kSmallModelMm = 5.0, kLargeModelMm = 3000.0;
+constexpr double kGoodLowMm = 20.0, kGoodHighMm = 500.0;
+constexpr double kLongRunSeconds = 300.0;
+constexpr double kLargeOutputBytes = 300e6;
+
+// The unit that would make a model `longest` input units across 20 to 500 mm, if one does.
+std::optional<Unit> fitting_unit(double longest, Unit current) {
+  for (const Unit u : {Unit::mm, Unit::cm, Unit::inch, Unit::m}) {
+    const double mm = longest * millimetres_per(u);
+    if (u != current && mm >= kGoodLowMm && mm <= kGoodHighMm) return u;
+  }
+  return std::nullopt;
+}
+
+void size_warnings(const Estimate& e, const Input& input, const Options& o, std::vector<std::string>& out) {
+  const double longest_mm = *std::max_element(e.size_mm.begin(), e.size_mm.end());
+  if (longest_mm >= kSmallModelMm && longest_mm <= kLargeModelMm) return;
+  std::string text = fmt::format("the model is {:.3g} mm across, {} than most prints", longest_mm,
+                                 longest_mm < kSmallModelMm ? "smaller" : "larger");
+  const Unit unit = std::visit([](const auto& in) { return in.unit; }, input);
+  const bool shape_in_mm =
+      std::holds_alternative<ShapeInput>(input) && std::get<ShapeInput>(input).radius_mm > 0;
+  const double longest_units = longest_mm / (millimetres_per(unit) * o.scale);
+  const std::optional<Unit> better = shape_in_mm ? std::nullopt : fitting_unit(longest_units, unit);
+  if (better && o.scale == 1.0)
+    text += fmt::format("; if its coordinates are in {}, say `units` {} ({:.3g} mm)", to_string(*better),
+                        to_string(*better), longest_units * millimetres_per(*better));
+  else
+    text += fmt::format("; `scale` {:.3g} would make it 100 mm", o.scale * 100.0 / longest_mm);
+  out.push_back(text);
+}
+
+}  // namespace
+
+Estimate estimate(const Input& input, const Options& given) {
+  validate(given);
+  Options options = given;
+  std::optional<PatternPlan> plan;
+  if (options.hole_diameter > 0.0 || options.spacing > 0.0 || options.porosity > 0.0) {
+    plan = plan_pattern({options.hole_diameter, options.spacing, options.porosity});
+    options.voxel_size = choose_voxel_size(options.voxel_size, *plan);
+  }
+  const PlacedSurface placed = place_surface(input, options);
+  const double mm_per_grid = placed.mm_per_grid();
+  Estimate e;
+  const Box box = placed.surface->bounds();
+  for (int a = 0; a < 3; ++a)
+    e.size_mm[static_cast<std::size_t>(a)] = (box.max[a] - box.min[a]) * mm_per_grid;
+  const Grid grid = Grid::fitted(placed.domain, placed.resolution);
+  e.grid = grid.dims();
+  e.voxel_size_mm = grid.h() * mm_per_grid;
+  BandEstimate band = estimate_band(*placed.surface, placed.domain, placed.resolution);
+  if (band.voxels == 0.0) {  // a small run: its own band is cheap to count
+    band.voxels = static_cast<double>(build_band(*placed.surface, grid).size());
+  }
+  e.band_voxels = band.voxels;
+  e.peak_bytes = kPeakFixedBytes + kPeakBytesPerVoxel * band.voxels;
+  e.seconds = plan ? kSecondsFixed + kSecondsPerBandVoxel * band.voxels
+                   : kSecondsAtReference * std::pow(band.voxels / kReferenceVoxels, kVoxelExponent);
+  const double wall_mm = options.mode == Mode::shell && options.wall > 0.0
+                             ? options.wall
+                             : 2.0 * BandOptions{}.delta_in_h * e.voxel_size_mm;
+  const double shell_mm = options.mode == Mode::shell
+                              ? std::min(e.voxel_size_mm, wall_mm / kMinCellsAcrossWall)
+                              : e.voxel_size_mm;
+  e.triangles = kTrianglesPerShellCell * band.voxels * std::pow(e.voxel_size_mm / shell_mm, 2);
+  if (options.max_triangles > 0)
+    e.triangles = std::min(e.triangles, static_cast<double>(options.max_triangles));
+  e.stl_bytes = kStlHeaderBytes + kStlBytesPerTriangle * e.triangles;
+
+  size_warnings(e, input, given, e.warnings);
+  // The smallest extent that holes can span: a flat part's thickness (under a tenth of its length) is
+  // not one.
+  const double longest_mm = *std::max_element(e.size_mm.begin(), e.size_mm.end());
+  double smallest_mm = longest_mm;
+  for (const double extent : e.size_mm)
+    if (extent >= 0.1 * longest_mm) smallest_mm = std::min(smallest_mm, extent);
+  const double hole = plan ? plan->diameter : 0.0;
+  if (hole > smallest_mm / 3.0)
+    e.warnings.push_back(fmt::format(
+        "holes of {:.3g} mm are more than a third of the model's smallest extent ({:.3g} mm): few holes "
+        "fit; ask for a smaller `hole_diameter`",
+        hole, smallest_mm));
+  if (e.seconds > kLongRunSeconds)
+    e.warnings.push_back(
+        fmt::format("this run may take about {:.0f} minutes; a coarser `resolution` or "
+                    "`voxel_size`, or larger holes, make it faster",
+                    e.seconds / 60.0));
+  if (e.stl_bytes > kLargeOutputBytes)
+    e.warnings.push_back(fmt::format("the output may be about {:.0f} MB as STL; `max_triangles` reduces it",
+                                     e.stl_bytes / 1e6));
+  return e;
+}
+
+}  // namespace poreshell
