@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "cli_support.hpp"
 #include "poreshell/poreshell.hpp"
 #include "progress_display.hpp"
 #include "summary.hpp"
@@ -23,10 +24,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using poreshell::Error;
-using poreshell::ErrorCode;
-
-constexpr int kExitFailure = 1;
-constexpr int kExitUsage = 2;
 
 const std::map<std::string, poreshell::Unit> kUnits{{"m", poreshell::Unit::m},
                                                     {"cm", poreshell::Unit::cm},
@@ -59,129 +56,6 @@ void add_stop_flags(CLI::App& app, poreshell::Options& options) {
          "have settled; the default of --preview, faster, the layout may still glide a little)")
       ->transform(CLI::CheckedTransformer(kStopRules))
       ->default_str("auto");
-}
-
-// The library names options by their API names in backquotes (`hole_diameter`); here they are flags.
-std::string with_flags(std::string message) {
-  static const std::map<std::string, std::string> kFlags{
-      {"max_memory_gb", "--max-memory"},    {"tolerance", "--tol"},
-      {"fast_tolerance", "--fast-tol"},     {"inner_tolerance", "--inner-tol"},
-      {"keep_out_boxes", "--keep-out-box"}, {"radius_mm", "--radius"}};
-  for (std::size_t open = message.find('`'); open != std::string::npos; open = message.find('`', open)) {
-    const std::size_t close = message.find('`', open + 1);
-    if (close == std::string::npos) break;
-    std::string name = message.substr(open + 1, close - open - 1);
-    std::string flag;
-    if (const auto it = kFlags.find(name); it != kFlags.end()) {
-      flag = it->second;
-    } else {
-      flag = "--" + name;
-      for (char& ch : flag)
-        if (ch == '_') ch = '-';
-    }
-    message.replace(open, close - open + 1, flag);
-    open += flag.size();
-  }
-  return message;
-}
-
-// Like CLI::PositiveNumber / NonNegativeNumber, but with a message that states the rule instead of
-// printing the range up to DBL_MAX.
-CLI::Validator number_above(double low, bool inclusive) {
-  const std::string rule = inclusive ? ">= " : "> ";
-  return CLI::Validator(
-      [=](std::string& text) -> std::string {
-        double v = 0.0;
-        if (!CLI::detail::lexical_cast(text, v) || !std::isfinite(v) || (inclusive ? v < low : v <= low))
-          return fmt::format("must be a number {}{:g}, got '{}'", rule, low, text);
-        return {};
-      },
-      "", "");
-}
-
-// "X,Y,Z,..." with exactly `count` numbers, or nothing.
-std::optional<std::vector<double>> numbers(const std::string& text, std::size_t count) {
-  std::vector<double> values;
-  std::size_t start = 0;
-  while (true) {
-    const std::size_t comma = text.find(',', start);
-    double v = 0.0;
-    if (!CLI::detail::lexical_cast(text.substr(start, comma - start), v)) return std::nullopt;
-    values.push_back(v);
-    if (comma == std::string::npos) break;
-    start = comma + 1;
-  }
-  if (values.size() != count) return std::nullopt;
-  return values;
-}
-
-// "--resolutoin" -> "--resolution": the flag nearest by edit distance, if it is near enough.
-std::size_t edit_distance(const std::string& a, const std::string& b) {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diagonal = row[0];
-    row[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t above = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diagonal = above;
-    }
-  }
-  return row[b.size()];
-}
-
-std::string unknown_argument_message(const CLI::App& app, const std::string& argument) {
-  std::string message = "unknown argument '" + argument + "'";
-  if (argument.rfind("--", 0) != 0) return message;
-  const std::string name = argument.substr(0, argument.find('='));
-  std::string best;
-  std::size_t best_distance = std::max<std::size_t>(2, name.size() / 3) + 1;  // a third of it, at least 2
-  for (const CLI::Option* option : app.get_options())
-    for (const std::string& long_name : option->get_lnames()) {
-      const std::size_t d = edit_distance(name, "--" + long_name);
-      if (d < best_distance) {
-        best_distance = d;
-        best = "--" + long_name;
-      }
-    }
-  if (!best.empty()) message += "; did you mean " + best + "?";
-  return message;
-}
-
-// The report's name of an input: its file, or the shape.
-std::string input_name(const poreshell::Input& input) {
-  if (const auto* m = std::get_if<poreshell::MeshInput>(&input)) return m->name;
-  if (const auto* p = std::get_if<poreshell::PointsInput>(&input)) return p->name;
-  return std::get<poreshell::ShapeInput>(input).kind == poreshell::ShapeKind::torus ? "torus" : "sphere";
-}
-
-// The run's estimate, its warnings naming flags.
-poreshell::Estimate estimate_with_flags(const poreshell::Input& input, const poreshell::Options& options) {
-  poreshell::Estimate e = poreshell::estimate(input, options);
-  for (std::string& warning : e.warnings) warning = with_flags(warning);
-  return e;
-}
-
-int usage_error(const std::string& message) {
-  fmt::print(stderr, "poreshell: error: {} (see poreshell --help)\n", message);
-  return kExitUsage;
-}
-
-// The viewer page and its picture; a picture alone is taken of a page in a temporary file.
-void save_views(const std::string& html, const std::string& png, const poreshell::Result& result,
-                const poreshell::Options& options, const poreshell::Input& input) {
-  if (html.empty() && png.empty()) return;
-  const fs::path page = !html.empty() ? fs::path(html) : fs::path(png).replace_extension(".tmp-view.html");
-  poreshell::save_html(page, result, options, &input);
-  if (png.empty()) return;
-  try {
-    poreshell::save_png(page, png);
-  } catch (...) {
-    if (html.empty()) fs::remove(page);
-    throw;
-  }
-  if (html.empty()) fs::remove(page);
 }
 
 int run(int argc, char** argv) {
