@@ -8,7 +8,7 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   return poreshell::fuzz::run(data, size, [](std::string_view bytes) {
-    const poreshell::GradeSpec spec = poreshell::parse_grade(std::string(bytes));
+    const poreshell::GradeSpec spec = poreshell::parse_grade_spec(std::string(bytes));
     if (spec.kind == poreshell::GradeSpec::Kind::field) return;  // needs a PLY file: fuzz_vertex_field
     const poreshell::Box box{poreshell::Vec3::Zero(), poreshell::Vec3::Constant(10.0)};
     // An accepted spec must give a finite diameter everywhere; apply_grading would refuse the run.
