@@ -2,20 +2,18 @@
 // an input -> perforate() -> files, summary and report. Everything else lives in the library.
 
 #include <fmt/core.h>
+#include <signal.h>
+#include <unistd.h>
 
-#include <CLI/CLI.hpp>
 #include <atomic>
 #include <chrono>
-#include <cmath>
-#include <cstdio>
 #include <exception>
 #include <filesystem>
-#include <map>
-#include <optional>
 #include <string>
 #include <vector>
 
 #include "cli_support.hpp"
+#include "command_line.hpp"
 #include "poreshell/poreshell.hpp"
 #include "progress_display.hpp"
 #include "summary.hpp"
@@ -25,298 +23,44 @@ namespace {
 namespace fs = std::filesystem;
 using poreshell::Error;
 
-const std::map<std::string, poreshell::Unit> kUnits{{"m", poreshell::Unit::m},
-                                                    {"cm", poreshell::Unit::cm},
-                                                    {"mm", poreshell::Unit::mm},
-                                                    {"inch", poreshell::Unit::inch}};
-const std::map<std::string, poreshell::Mode> kModes{{"shell", poreshell::Mode::shell},
-                                                    {"narrow-volume", poreshell::Mode::narrow_volume}};
-const std::map<std::string, poreshell::WallOffset> kOffsets{{"centered", poreshell::WallOffset::centered},
-                                                            {"inside", poreshell::WallOffset::inside},
-                                                            {"outside", poreshell::WallOffset::outside}};
-const std::map<std::string, poreshell::SolverKind> kSolvers{{"fast", poreshell::SolverKind::fast},
-                                                            {"reference", poreshell::SolverKind::reference}};
-const std::map<std::string, poreshell::InnerIteration> kInners{
-    {"gauss-seidel", poreshell::InnerIteration::gauss_seidel}, {"jacobi", poreshell::InnerIteration::jacobi}};
-const std::map<std::string, poreshell::PointRoute> kPointRoutes{{"direct", poreshell::PointRoute::direct},
-                                                                {"paper", poreshell::PointRoute::paper}};
+std::atomic<bool> writing{false};  // set once the first output file is begun
 
-const std::map<std::string, poreshell::StopRule> kStopRules{{"auto", poreshell::StopRule::automatic},
-                                                            {"paper", poreshell::StopRule::paper},
-                                                            {"holes", poreshell::StopRule::holes}};
+// SIGINT and SIGTERM end the program at once: a run writes nothing until it is done, and a write in
+// progress leaves only its temporary, which the handler removes (async-signal-safe calls only).
+extern "C" void on_interrupt(int signal_number) {
+  poreshell::remove_partial_files();
+  static constexpr char before[] = "\nporeshell: error: interrupted; nothing was written\n";
+  static constexpr char during[] =
+      "\nporeshell: error: interrupted while writing: the file being written was removed, the files "
+      "already complete were kept; run again for the rest\n";
+  const bool late = writing.load();
+  [[maybe_unused]] const auto written =
+      ::write(STDERR_FILENO, late ? during : before, (late ? sizeof during : sizeof before) - 1);
+  ::_exit(128 + signal_number);
+}
 
-// --preview and --stop (docs/solver.md "Stop rules").
-void add_stop_flags(CLI::App& app, poreshell::Options& options) {
-  app.add_flag("--preview", options.preview,
-               "the pattern alone, fast: the surface with its holes painted on (.ply with vertex colours, "
-               "--html), no shell; stopped as soon as the hole layout has settled");
-  app.add_option(
-         "--stop", options.stop,
-         "when the run ends: paper (e_c < --tol; the default) or holes (the hole count and boundaries "
-         "have settled; the default of --preview, faster, the layout may still glide a little)")
-      ->transform(CLI::CheckedTransformer(kStopRules))
-      ->default_str("auto");
+// A signal ignored when the program starts (SIGINT under nohup or `cmd &`) stays ignored.
+void stop_on_interrupt() {
+  struct sigaction action {};
+  action.sa_handler = on_interrupt;
+  sigemptyset(&action.sa_mask);
+  sigaddset(&action.sa_mask, SIGINT);
+  sigaddset(&action.sa_mask, SIGTERM);
+  for (const int signal_number : {SIGINT, SIGTERM}) {
+    struct sigaction previous {};
+    ::sigaction(signal_number, nullptr, &previous);
+    if (previous.sa_handler != SIG_IGN) ::sigaction(signal_number, &action, nullptr);
+  }
 }
 
 int run(int argc, char** argv) {
-  poreshell::Options options;  // its defaults are the paper's section 3.2 values
-  std::string output, report, holes_csv, html, png, shape_name = "sphere", mesh, points;
-  poreshell::Unit unit = poreshell::Unit::mm;
-  double radius = 0.0;
-  bool quiet = false;
-  std::string progress = "auto";
-
-  CLI::App app{
-      "poreshell: porous shells for 3D printing from the nonlocal Cahn-Hilliard equation on a narrow "
-      "band (defaults: the sphere of section 3.2)",
-      "poreshell"};
-  app.set_version_flag("--version", std::string("poreshell ") + poreshell::version());
-  app.get_formatter()->column_width(28);
-
-  auto* shape = app.add_option("--shape", shape_name, "surface S: sphere (eq. 3.1) or torus (section 3.2)")
-                    ->check(CLI::IsMember({"sphere", "torus"}))
-                    ->capture_default_str();
-  auto* mesh_option =
-      app.add_option(
-             "--mesh", mesh,
-             "triangle mesh FILE (STL, OBJ, PLY, OFF, 3MF; holes and open surfaces are fine), fitted to "
-             "the unit grid as in section 3.4; coordinates in --units")
-          ->type_name("FILE")
-          ->excludes(shape);
-  app.add_option(
-         "--points", points,
-         "point cloud FILE (.xyz: x y z a line, extra columns ignored; .ply: its vertices), fitted to "
-         "the unit grid like --mesh")
-      ->type_name("FILE")
-      ->excludes(shape)
-      ->excludes(mesh_option);
-  app.add_option("--point-route", options.point_route,
-                 "point clouds: direct (distance to discs fitted to the points, no PDE) or paper (densify, "
-                 "then the segmentation eq. 3.3; needs a closed surface); docs/point-clouds.md")
-      ->transform(CLI::CheckedTransformer(kPointRoutes))
-      ->default_str("direct");
-  app.add_option("--resolution", options.resolution,
-                 "grid points N_x along the longest side, h = 1/(N_x - 1) (paper: 131, Fig. 5: 181)")
-      ->type_name("N")
-      ->check(number_above(0.0, false))
-      ->capture_default_str();
-  app.add_option("--voxel-size", options.voxel_size,
-                 "grid spacing h in mm; sets the resolution instead of --resolution")
-      ->type_name("MM")
-      ->check(number_above(0.0, false));
-  app.add_option(
-         "--units", unit,
-         "unit of the input's coordinates (shapes: of the unit cube); lengths on the command line and "
-         "all outputs are in mm")
-      ->transform(CLI::CheckedTransformer(kUnits))
-      ->default_str("mm");
-  app.add_option("--mode", options.mode,
-                 "shell: wall of --wall mm, pores straight through it; narrow-volume: the paper's Fig. 3b "
-                 "(about 3.8 h thick)")
-      ->transform(CLI::CheckedTransformer(kModes))
-      ->default_str("shell");
-  app.add_option("--wall", options.wall,
-                 "shell wall thickness in mm (default: the band's width 2 delta = 3.81 h)")
-      ->type_name("MM")
-      ->check(number_above(0.0, false));
-  app.add_option("--offset", options.offset,
-                 "where the shell wall lies: centered on the surface, inside or outside it")
-      ->transform(CLI::CheckedTransformer(kOffsets))
-      ->default_str("centered");
-  app.add_option("--alpha", options.alpha,
-                 "nonlocal strength α in eq. (2.1) (paper: 1400 sphere and torus, 2200 bunny)")
-      ->type_name("A")
-      ->check(number_above(0.0, true))
-      ->capture_default_str();
-  app.add_option("--epsilon-m", options.epsilon_m,
-                 "interface width m in ε_m = m h / (2√2 tanh⁻¹ 0.9) (paper: 4)")
-      ->type_name("M")
-      ->check(number_above(0.0, false))
-      ->capture_default_str();
-  app.add_option("--dt-h", options.dt_h, "time step Δt in units of h, Δt = K h (paper: 100)")
-      ->type_name("K")
-      ->check(number_above(0.0, false))
-      ->capture_default_str();
-  add_stop_flags(app, options);
-  app.add_option("--tol", options.tolerance, "stop when the consecutive change e_c < tol (paper: 1e-3)")
-      ->type_name("T")
-      ->check(number_above(0.0, false))
-      ->capture_default_str();
-  app.add_option("--max-steps", options.max_steps,
-                 "at most S time steps (paper: T = 329 Δt sphere, 358 Δt torus)")
-      ->type_name("S")
-      ->check(number_above(0.0, false))
-      ->capture_default_str();
-  app.add_option("--seed", options.seed, "seed of rand(x) in φ(x, 0) = φ̄ + 0.5 rand(x)")
-      ->type_name("S")
-      ->capture_default_str();
-  app.add_option(
-         "--iso", options.iso,
-         "isosurface level(s) φ = C of the narrow volume, comma-separated or repeated (paper: 0.3, 0, -0.3)")
-      ->type_name("C[,C...]")
-      ->delimiter(',')
-      ->allow_extra_args(false)  // one token per --iso, so "--iso 0.3 OUT" cannot swallow a stray word
-      ->capture_default_str();
-  app.add_option("--energy-every", options.energy_every,
-                 "evaluate the discrete energy (3.2) every K steps and at the end; 0 = never (saves its "
-                 "Poisson factorisation on large grids)")
-      ->type_name("K")
-      ->check(number_above(0.0, true))
-      ->capture_default_str();
-  app.add_option("--threads", options.threads, "worker threads (oneTBB); 0 = all cores")
-      ->type_name("N")
-      ->check(number_above(0.0, true))
-      ->capture_default_str();
-  app.add_option("--phi-bar", options.phi_bar,
-                 "mean concentration φ̄ in eq. (2.1), sets the pore fraction (paper: -0.3)")
-      ->type_name("F")
-      ->capture_default_str();
-  auto* alpha_option = app.get_option("--alpha");
-  const std::vector<CLI::Option*> model_options{alpha_option, app.get_option("--epsilon-m"),
-                                                app.get_option("--dt-h"), app.get_option("--phi-bar"),
-                                                app.get_option("--iso")};
-  std::vector<CLI::Option*> hole_options{
-      app.add_option(
-             "--hole-diameter", options.hole_diameter,
-             "hole diameter in mm; sets alpha, epsilon, phi-bar, the time step, the pore level and the "
-             "voxel size (docs/printing.md)")
-          ->type_name("MM")
-          ->check(number_above(0.0, false)),
-      app.add_option("--spacing", options.spacing,
-                     "hole centre spacing in mm (default with --hole-diameter: diameter / 0.6)")
-          ->type_name("MM")
-          ->check(number_above(0.0, false)),
-      app.add_option("--porosity", options.porosity, "open share of the surface, instead of --spacing")
-          ->type_name("F")
-          ->check(number_above(0.0, false))};
-  for (CLI::Option* hole : hole_options)
-    for (CLI::Option* model : model_options) hole->excludes(model);
-  std::string grade;
-  app.add_option("--grade", grade,
-                 "hole-size grading, diameters in mm: axis:x|y|z:D1:D2, line:X,Y,Z:D1:X,Y,Z:D2, "
-                 "radial:X,Y,Z:R:D0 or field:NAME[:D0:D1] (a PLY vertex property)")
-      ->type_name("SPEC");
-  app.add_option("--radius", radius,
-                 "size of --shape in mm: sphere radius, torus major radius (default: the unit cube)")
-      ->type_name("MM")
-      ->check(number_above(0.0, false))
-      ->excludes(mesh_option);
-  app.add_option("--rim", options.rim, "solid rim of this width (mm) along the mesh's open boundary")
-      ->type_name("MM")
-      ->check(number_above(0.0, true));
-  std::vector<std::string> keep_out;
-  app.add_option("--keep-out", keep_out,
-                 "solid sphere X,Y,Z,R in mm (input frame) where no pore may form; repeatable")
-      ->type_name("X,Y,Z,R");
-  app.add_option("--max-triangles", options.max_triangles,
-                 "reduce each output to at most N triangles, keeping it closed, manifold and within "
-                 "--max-deviation of the meshed surface")
-      ->type_name("N")
-      ->check(number_above(0.0, true));
-  app.add_option("--max-deviation", options.max_deviation,
-                 "how far (mm) the reduced surface may lie from the meshed one; keep it below half the wall")
-      ->type_name("MM")
-      ->check(number_above(0.0, false))
-      ->capture_default_str();
-  app.add_option("--keep-out-mask", options.keep_out_mask,
-                 "solid wherever this vertex property of the --mesh PLY file is 1 (a painted 0/1 mask)")
-      ->type_name("NAME");
-  std::vector<std::string> keep_out_boxes;
-  app.add_option("--keep-out-box", keep_out_boxes,
-                 "solid box X0,Y0,Z0,X1,Y1,Z1 in mm (input frame, two opposite corners); repeatable")
-      ->type_name("X0,Y0,Z0,X1,Y1,Z1");
-  app.add_option("--max-memory", options.max_memory_gb,
-                 "refuse runs estimated to need more memory than this, in GB (default: what is available)")
-      ->type_name("GB")
-      ->check(number_above(0.0, false));
-  app.add_option("--solver", options.solver,
-                 "fast: stabilised scheme, band multigrid (docs/solver.md); reference: the paper's scheme")
-      ->transform(CLI::CheckedTransformer(kSolvers))
-      ->default_str("fast");
-  app.add_option("--fast-tol", options.fast_tolerance, "fast solver: bound on the error of each step's solve")
-      ->type_name("T")
-      ->check(number_above(0.0, false))
-      ->capture_default_str();
-  app.add_option("--min-stabilisation", options.min_stabilisation,
-                 "fast solver: floor on the stabilisation S (default: the energy-stability bound alone)")
-      ->type_name("S")
-      ->check(number_above(0.0, true))
-      ->capture_default_str();
-  std::string coarse_start = "auto";
-  app.add_option(
-         "--coarse-start", coarse_start,
-         "fast solver: auto forms the pattern on a coarser grid first where epsilon spans 1.8 eps_4 "
-         "or more (fine voxels for large pores), then relaxes it here; off solves here from the start")
-      ->check(CLI::IsMember({"auto", "off"}))
-      ->capture_default_str();
-  app.add_option("--inner", options.inner, "reference solver: inner relaxation per step (paper: jacobi)")
-      ->transform(CLI::CheckedTransformer(kInners))
-      ->default_str("gauss-seidel");
-  app.add_option("--inner-tol", options.inner_tolerance,
-                 "inner tolerance on the max-norm scaled residual of eqs. (2.3)-(2.4)")
-      ->type_name("T")
-      ->check(number_above(0.0, false))
-      ->capture_default_str();
-  // Required, but checked after parsing: CLI11 reports a missing required option before an unknown one,
-  // which would hide a misspelt flag behind "--output is required".
-  app.add_option("-o,--output", output,
-                 "output mesh in mm (required); the extension picks the format: .stl (binary), .3mf, .obj, "
-                 ".ply (binary); several --iso levels write OUT-isoC.ext each")
-      ->type_name("OUT.stl");
-  app.add_option("--report", report, "write the run's JSON report here")->type_name("OUT.json");
-  app.add_flag("-q,--quiet", quiet, "no progress on stderr");
-  app.add_option("--progress", progress,
-                 "progress on stderr: auto (a bar per stage with the time left on a terminal, else plain "
-                 "lines), bar, plain, or json (one object a line: stage, fraction, seconds, eta)")
-      ->check(CLI::IsMember({"auto", "bar", "plain", "json"}))
-      ->capture_default_str();
-  app.add_option("--scale", options.scale,
-                 "multiply the input's coordinates by F (after --units); lengths on the command line are "
-                 "in mm of the scaled model")
-      ->type_name("F")
-      ->check(number_above(0.0, false));
-  app.add_option("--thin-features", options.thin_feature_ratio,
-                 "no hole where the part is thinner than this many hole diameters (ears, fingers); 0: off")
-      ->type_name("RATIO")
-      ->check(number_above(0.0, true))
-      ->capture_default_str();
-  app.add_option("--crease-angle", options.crease_angle,
-                 "no hole within half a hole of an edge sharper than this (degrees); 0: off")
-      ->type_name("DEG")
-      ->check(number_above(0.0, true))
-      ->capture_default_str();
-  app.add_flag("--keep-fragments", options.keep_fragments,
-               "keep specks and sealed voids under 1% of the largest part's volume (removed by default)");
-
-  app.add_option("--holes", holes_csv,
-                 "write the hole table (centre, normal, diameter, circularity, nearest) as CSV")
-      ->type_name("OUT.csv");
-  app.add_option("--html", html, "write the interactive viewer: one self-contained page, opens offline")
-      ->type_name("OUT.html");
-  app.add_option("--png", png, "write a picture of the viewer's view (needs chromium)")->type_name("OUT.png");
-  app.allow_extras();
-
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
-    return usage_error(e.what());
-  }
-  if (!app.remaining().empty()) return usage_error(unknown_argument_message(app, app.remaining().front()));
-  if (output.empty()) return usage_error("no output file: give -o OUT.stl");
-  options.coarse_start = coarse_start == "auto";
-  for (const std::string& text : keep_out) {
-    const auto v = numbers(text, 4);
-    if (!v) return usage_error("--keep-out '" + text + "' is not X,Y,Z,R (four numbers, mm)");
-    options.keep_out.push_back({{(*v)[0], (*v)[1], (*v)[2]}, (*v)[3]});
-  }
-  for (const std::string& text : keep_out_boxes) {
-    const auto v = numbers(text, 6);
-    if (!v) return usage_error("--keep-out-box '" + text + "' is not X0,Y0,Z0,X1,Y1,Z1 (six numbers, mm)");
-    options.keep_out_boxes.push_back({{(*v)[0], (*v)[1], (*v)[2]}, {(*v)[3], (*v)[4], (*v)[5]}});
-  }
-  if (!grade.empty()) options.grade = poreshell::parse_grade(grade);
-  poreshell::validate(options);
+  stop_on_interrupt();
+  const std::optional<Command> parsed = parse_command_line(argc, argv);
+  if (!parsed) return 0;  // --help, --version
+  const Command& command = *parsed;
+  const poreshell::Options& options = command.options;
+  const std::string &output = command.output, &report = command.report, &holes_csv = command.holes_csv,
+                    &html = command.html, &png = command.png, &mesh = command.mesh, &points = command.points;
 
   // Fail before the (possibly minutes long) run rather than after it.
   const bool several = options.iso.size() > 1 && options.hole_diameter <= 0.0 && options.spacing <= 0.0 &&
@@ -333,17 +77,19 @@ int run(int argc, char** argv) {
     if (!options.keep_out_mask.empty()) fields.push_back(options.keep_out_mask);
     if (options.grade && options.grade->kind == poreshell::Grade::Kind::field)
       fields.push_back(options.grade->field);
-    input = poreshell::load_mesh(mesh, unit, fields);
+    input = poreshell::load_mesh(mesh, command.unit, fields);
   } else if (!points.empty()) {
-    input = poreshell::load_points(points, unit);
+    input = poreshell::load_points(points, command.unit);
   } else {
     input = poreshell::ShapeInput{
-        shape_name == "torus" ? poreshell::ShapeKind::torus : poreshell::ShapeKind::sphere, radius, unit};
+        command.shape_name == "torus" ? poreshell::ShapeKind::torus : poreshell::ShapeKind::sphere,
+        command.radius, command.unit};
   }
   print_estimate(input_name(input), estimate_with_flags(input, options));
-  ProgressDisplay display(progress_style(progress, quiet));
+  ProgressDisplay display(progress_style(command.progress, command.quiet));
   poreshell::RunControl control;
   control.progress = [&display](const poreshell::Progress& p) { display(p); };
+  control.max_seconds = command.max_seconds;
   poreshell::Result result = [&] {
     try {
       return poreshell::perforate(input, options, control);
@@ -357,6 +103,7 @@ int run(int argc, char** argv) {
   // Every mesh was built and checked before any is written; each is written to a temporary name and
   // renamed.
   poreshell::Report& r = result.report;
+  writing = true;
   const auto start_write = std::chrono::steady_clock::now();
   for (std::size_t i = 0; i < result.outputs.size(); ++i) {
     const fs::path path = poreshell::output_path_for_level(output, result.outputs[i].iso, several);
@@ -383,6 +130,8 @@ int main(int argc, char** argv) {
     return run(argc, argv);
   } catch (const Error& e) {  // its message says what to fix
     fmt::print(stderr, "poreshell: error: {}\n", with_flags(e.what()));
+  } catch (const UsageError& e) {
+    return usage_error(e.what());
   } catch (const std::exception& e) {
     fmt::print(stderr, "poreshell: error: {}\n", e.what());
   } catch (...) {

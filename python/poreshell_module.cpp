@@ -62,6 +62,8 @@ const char* code_name(poreshell::ErrorCode code) {
       return "too_large";
     case poreshell::ErrorCode::cancelled:
       return "cancelled";
+    case poreshell::ErrorCode::out_of_time:
+      return "out_of_time";
     case poreshell::ErrorCode::io:
       return "io";
     case poreshell::ErrorCode::internal:
@@ -386,12 +388,13 @@ py::dict holes_dict(const std::vector<poreshell::Hole>& holes) {
 // Runs perforate() on a thread of its own while this (the calling, usually main) thread waits with the
 // GIL released, checking for signals every 50 ms: Ctrl-C sets the cancel flag, and the run stops within
 // about half a second. The progress callback takes the GIL from the run's threads.
-py::tuple run(const InputBox& input, const py::dict& kwargs, const py::object& progress) {
+py::tuple run(const InputBox& input, const py::dict& kwargs, const py::object& progress, double max_seconds) {
   const poreshell::Options options = to_options(kwargs);
   RunState state;
   state.progress = progress;
   poreshell::RunControl control;
   control.cancel = &state.cancel;
+  control.max_seconds = max_seconds;
   if (!progress.is_none()) {
     // Captures a pointer only: the RunControl is copied inside the run, without the GIL.
     control.progress = [s = &state](const poreshell::Progress& p) {
@@ -556,6 +559,6 @@ PYBIND11_MODULE(_poreshell, m) {
     for (const auto& [name, unused] : setters()) names.push_back(name);
     return names;
   });
-  m.def("perforate", &run, py::arg("input"), py::arg("options"), py::arg("progress"));
+  m.def("perforate", &run, py::arg("input"), py::arg("options"), py::arg("progress"), py::arg("max_seconds"));
   m.def("version", [] { return std::string(poreshell::version()); });
 }

@@ -14,6 +14,7 @@ enum class ErrorCode {
   invalid_input,   // the input mesh, point cloud or file cannot be used
   too_large,       // the run would not fit in memory or the grid limits
   cancelled,       // the cancel flag was set or the progress callback threw
+  out_of_time,     // the run passed RunControl::max_seconds
   io,              // a file could not be read or written
   internal,        // a failure of the program (please report it)
 };

@@ -15,6 +15,11 @@
 
 namespace poreshell {
 
+// Async-signal-safe: removes the temporary files of the writes in progress, for a SIGINT/SIGTERM handler
+// that then calls _exit(); an interrupted write so leaves neither a partial file nor its temporary.
+// (kill -9 leaves the temporary, named OUT.tmp-PID-N next to OUT, and never a file under OUT's name.)
+PORESHELL_API void remove_partial_files() noexcept;
+
 // A triangle mesh: STL, OBJ, PLY, OFF or 3MF by extension. `fields` names PLY vertex properties to
 // read into MeshInput::vertex_fields (for keep_out_mask and grading by a field).
 PORESHELL_API MeshInput load_mesh(const std::filesystem::path& path, Unit unit = Unit::mm,

@@ -18,10 +18,12 @@ struct Progress {
 // The callback is called from the run's threads, one call at a time, at least at every stage's start
 // and end and a few times a second in long stages. Throwing from it cancels the run: the exception
 // reaches perforate()'s caller. Setting *cancel stops the run within about half a second with
-// Error(cancelled). Nothing is ever written by a run.
+// Error(cancelled). A run past `max_seconds` (0: no budget) stops as soon with Error(out_of_time).
+// Nothing is ever written by a run.
 struct RunControl {
   std::function<void(const Progress&)> progress;
   const std::atomic<bool>* cancel = nullptr;
+  double max_seconds = 0.0;
 };
 
 }  // namespace poreshell

@@ -310,6 +310,7 @@ def perforate(
     seed=1,
     threads=0,
     progress=None,
+    max_seconds=0,
     vertex_fields=None,
     **model,
 ):
@@ -354,6 +355,8 @@ def perforate(
                      'holes', fraction 0..1 of that stage; called from the run's threads with the GIL
                      held, at each stage's start and a few times a second while solving. An exception it
                      raises cancels the run and propagates out of perforate() unchanged.
+      max_seconds    a time budget: a run still computing after it raises RuntimeError (code
+                     'out_of_time'); 0: none
 
     **model: the other options by their API names (OPTION_NAMES lists them all):
       resolution (131: grid points along the longest side), voxel_size (mm, instead), alpha (1400),
@@ -393,7 +396,13 @@ def perforate(
         options[name] = value
     if progress is not None and not callable(progress):
         raise ValueError("`progress` must be a callable (stage, fraction) or None")
-    return Result(*_poreshell.perforate(_make_input(vertices, faces, units, vertex_fields), options, progress))
+    if not max_seconds >= 0:
+        raise ValueError("`max_seconds` must be a number of seconds >= 0 (0: no budget)")
+    return Result(
+        *_poreshell.perforate(
+            _make_input(vertices, faces, units, vertex_fields), options, progress, float(max_seconds)
+        )
+    )
 
 
 def _make_input(first, faces, units, vertex_fields):

@@ -156,6 +156,16 @@ def test_ctrl_c_cancels_promptly():
             p.kill()
 
 
+def test_time_budget_stops_the_run():
+    start = time.monotonic()
+    with pytest.raises(RuntimeError, match="time budget of 0.5 s") as failure:
+        poreshell.perforate(poreshell.sphere(20), resolution=131, tolerance=1e-12, max_steps=100000, max_seconds=0.5)
+    assert failure.value.code == "out_of_time"
+    assert time.monotonic() - start < 10.0  # a loose bound: the run alone would take minutes
+    with pytest.raises(ValueError, match="max_seconds"):
+        poreshell.perforate(poreshell.sphere(20), max_seconds=-1)
+
+
 def test_save_round_trips_through_load_mesh(small, tmp_path):
     for ext in ("stl", "ply", "obj"):
         path = tmp_path / ("sphere." + ext)

@@ -1,6 +1,36 @@
 #include "core/run_monitor.hpp"
 
+#include <fmt/core.h>
+
 namespace poreshell {
+
+RunMonitor::RunMonitor(const RunControl& control) : control_(control) {
+  if (!(control_.max_seconds > 0.0)) return;
+  const auto deadline = start_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                     std::chrono::duration<double>(control_.max_seconds));
+  watchdog_ = std::jthread([this, deadline](std::stop_token stop) {
+    std::mutex m;
+    std::condition_variable_any woken;
+    std::unique_lock lock(m);
+    // Returns early only when the run ends (the destructor's stop request).
+    if (!woken.wait_until(lock, stop, deadline, [] { return false; }))
+      if (!stop.stop_requested()) out_of_time_.store(true, std::memory_order_relaxed);
+  });
+}
+
+RunMonitor::~RunMonitor() = default;
+
+void RunMonitor::throw_out_of_time() const {
+  std::string stage;
+  {
+    std::lock_guard lock(mutex_);
+    stage = stage_;
+  }
+  throw Error(ErrorCode::out_of_time,
+              fmt::format("the run passed its time budget of {:g} s (`max_seconds`) in stage '{}'; nothing "
+                          "was written; allow more time, or ask for larger holes or a coarser `voxel_size`",
+                          control_.max_seconds, stage));
+}
 
 void RunMonitor::stage(std::string_view name) {
   check();

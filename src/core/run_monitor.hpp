@@ -1,16 +1,20 @@
 #pragma once
 // A run's progress reports and cancellation, handed to the stages that take long. Any thread may call
 // it: the callback is serialised and rate-limited, and check() throws Cancelled once the caller's flag
-// is set (from a oneTBB worker, the exception cancels the parallel loop and reaches the run's caller).
+// is set, OutOfTime once the run is past its time budget (from a oneTBB worker, the exception cancels
+// the parallel loop and reaches the run's caller).
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <cstddef>
 #include <cstdint>
 #include <mutex>
+#include <stop_token>
 #include <string>
 #include <string_view>
+#include <thread>
 
 #include "core/error.hpp"
 #include "poreshell/progress.hpp"
@@ -20,7 +24,12 @@ namespace poreshell {
 class RunMonitor {
  public:
   RunMonitor() = default;
-  explicit RunMonitor(const RunControl& control) : control_(control) {}
+  // With control.max_seconds > 0, a watchdog thread raises the out-of-time flag at the deadline (so
+  // that check() stays one load, not a clock read).
+  explicit RunMonitor(const RunControl& control);
+  ~RunMonitor();
+  RunMonitor(const RunMonitor&) = delete;
+  RunMonitor& operator=(const RunMonitor&) = delete;
 
   // A new stage: reports (stage, 0) at once.
   void stage(std::string_view name);
@@ -28,22 +37,30 @@ class RunMonitor {
   // cancel flag first. `step`: the solve's time step (0 elsewhere). The fraction reported never goes
   // back within a stage. Cheap when not reporting (one clock read), so loops may call it often.
   void advance(double fraction, std::string_view message = {}, int step = 0, bool force = false);
-  // Throws Cancelled when the caller's flag is set. Cheap: one relaxed load.
+  // Throws Cancelled when the caller's flag is set, OutOfTime past the budget. Cheap: two relaxed loads.
   void check() const {
     if (control_.cancel && control_.cancel->load(std::memory_order_relaxed)) throw Cancelled();
+    if (out_of_time_.load(std::memory_order_relaxed)) throw_out_of_time();
   }
-  // Whether the caller's flag is set, for code that must stop by itself rather than by an exception.
-  bool cancelled() const { return control_.cancel && control_.cancel->load(std::memory_order_relaxed); }
+  // Whether the run must stop, for code that must stop by itself rather than by an exception.
+  bool cancelled() const {
+    return (control_.cancel && control_.cancel->load(std::memory_order_relaxed)) ||
+           out_of_time_.load(std::memory_order_relaxed);
+  }
   double seconds() const;
 
  private:
   static constexpr std::chrono::milliseconds kInterval{200};
+  [[noreturn]] void throw_out_of_time() const;
+
   RunControl control_;
-  std::mutex mutex_;
+  std::atomic<bool> out_of_time_{false};
+  mutable std::mutex mutex_;  // for the callback and stage_
   std::string stage_;
   double fraction_ = 0.0;  // the last reported in this stage
   const std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
   std::atomic<std::int64_t> last_{0};  // the last report, steady_clock ticks since start_
+  std::jthread watchdog_;              // last: stopped and joined before the rest goes
 };
 
 // A share [begin, end] of the current stage's progress, handed to a function that does part of a stage

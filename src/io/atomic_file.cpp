@@ -2,12 +2,15 @@
 
 #include <unistd.h>
 
+#include <array>
 #include <atomic>
+#include <cstring>
 #include <fstream>
 #include <string>
 #include <system_error>
 
 #include "core/error.hpp"
+#include "poreshell/io.hpp"
 
 namespace poreshell {
 namespace fs = std::filesystem;
@@ -25,6 +28,44 @@ void remove_quietly(const fs::path& p) {
   fs::remove(p, ignored);
 }
 
+// The temporaries being written, for remove_partial_files() in a signal handler: fixed slots of plain
+// characters (no allocation there), each published by its `live` flag after its name is complete.
+struct LiveTemporary {
+  std::atomic<bool> claimed{false};
+  std::atomic<bool> live{false};
+  std::array<char, 4096> name{};
+};
+std::array<LiveTemporary, 16> live_temporaries;
+static_assert(std::atomic<bool>::is_always_lock_free, "used from a signal handler");
+
+// Registers `tmp` before the file exists, so that no temporary is ever on disk unregistered. More
+// concurrent writes than slots, or a longer name, go unregistered: a signal then leaves that
+// temporary, which kill -9 leaves too and its name makes recognisable.
+class LiveRegistration {
+ public:
+  explicit LiveRegistration(const fs::path& tmp) {
+    const std::string& name = tmp.native();
+    if (name.size() >= LiveTemporary{}.name.size()) return;
+    for (LiveTemporary& slot : live_temporaries) {
+      if (slot.claimed.exchange(true, std::memory_order_acquire)) continue;
+      std::memcpy(slot.name.data(), name.c_str(), name.size() + 1);
+      slot.live.store(true, std::memory_order_release);
+      slot_ = &slot;
+      return;
+    }
+  }
+  ~LiveRegistration() {
+    if (!slot_) return;
+    slot_->live.store(false, std::memory_order_release);
+    slot_->claimed.store(false, std::memory_order_release);
+  }
+  LiveRegistration(const LiveRegistration&) = delete;
+  LiveRegistration& operator=(const LiveRegistration&) = delete;
+
+ private:
+  LiveTemporary* slot_ = nullptr;
+};
+
 }  // namespace
 
 void write_atomically(const fs::path& path, const std::function<void(std::ostream&)>& write, bool binary) {
@@ -37,6 +78,7 @@ void write_atomically(const fs::path& path, const std::function<void(std::ostrea
     throw InputError("cannot write '" + path.string() + "': it is a directory; choose a file name");
 
   const fs::path tmp = temporary_name(path);
+  const LiveRegistration registration(tmp);
   try {
     {
       std::ofstream out(
@@ -58,6 +100,11 @@ void write_atomically(const fs::path& path, const std::function<void(std::ostrea
     remove_quietly(tmp);
     throw;
   }
+}
+
+void remove_partial_files() noexcept {
+  for (LiveTemporary& slot : live_temporaries)
+    if (slot.live.load(std::memory_order_acquire)) ::unlink(slot.name.data());
 }
 
 }  // namespace poreshell

@@ -11,5 +11,6 @@ namespace poreshell {
 // On any failure the temporary file is removed and the error is rethrown.
 void write_atomically(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write,
                       bool binary = true);
+// remove_partial_files() (include/poreshell/io.hpp) is defined with it.
 
 }  // namespace poreshell
