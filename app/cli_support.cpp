@@ -54,7 +54,8 @@ std::optional<std::vector<double>> numbers(const std::string& text, std::size_t 
   while (true) {
     const std::size_t comma = text.find(',', start);
     double v = 0.0;
-    if (!CLI::detail::lexical_cast(text.substr(start, comma - start), v)) return std::nullopt;
+    if (!CLI::detail::lexical_cast(text.substr(start, comma - start), v) || !std::isfinite(v))
+      return std::nullopt;
     values.push_back(v);
     if (comma == std::string::npos) break;
     start = comma + 1;

@@ -25,6 +25,22 @@ const std::map<std::string, poreshell::InnerIteration> kInners{
 const std::map<std::string, poreshell::PointRoute> kPointRoutes{{"direct", poreshell::PointRoute::direct},
                                                                 {"paper", poreshell::PointRoute::paper}};
 
+// Like CLI::CheckedTransformer, with a message that lists the names alone: "--units: 'furlong' is not
+// one of cm, inch, m, mm".
+template <class Enum>
+CLI::Validator one_of(const std::map<std::string, Enum>& names) {
+  std::string list;
+  for (const auto& entry : names) list += (list.empty() ? "" : ", ") + entry.first;
+  return CLI::Validator(
+      [&names, list](std::string& text) -> std::string {
+        const auto it = names.find(text);
+        if (it == names.end()) return "'" + text + "' is not one of " + list;
+        text = std::to_string(static_cast<int>(it->second));
+        return {};
+      },
+      "", "");
+}
+
 const std::map<std::string, poreshell::StopRule> kStopRules{{"auto", poreshell::StopRule::automatic},
                                                             {"paper", poreshell::StopRule::paper},
                                                             {"holes", poreshell::StopRule::holes}};
@@ -38,7 +54,7 @@ void add_stop_flags(CLI::App& app, poreshell::Options& options) {
          "--stop", options.stop,
          "when the run ends: paper (e_c < --tol; the default) or holes (the hole count and boundaries "
          "have settled; the default of --preview, faster, the layout may still glide a little)")
-      ->transform(CLI::CheckedTransformer(kStopRules))
+      ->transform(one_of(kStopRules))
       ->default_str("auto");
 }
 
@@ -82,7 +98,7 @@ std::optional<Command> parse_command_line(int argc, const char* const* argv) {
   app.add_option("--point-route", options.point_route,
                  "point clouds: direct (distance to discs fitted to the points, no PDE) or paper (densify, "
                  "then the segmentation eq. 3.3; needs a closed surface); docs/point-clouds.md")
-      ->transform(CLI::CheckedTransformer(kPointRoutes))
+      ->transform(one_of(kPointRoutes))
       ->default_str("direct");
   app.add_option("--resolution", options.resolution,
                  "grid points N_x along the longest side, h = 1/(N_x - 1) (paper: 131, Fig. 5: 181)")
@@ -97,12 +113,12 @@ std::optional<Command> parse_command_line(int argc, const char* const* argv) {
          "--units", unit,
          "unit of the input's coordinates (shapes: of the unit cube); lengths on the command line and "
          "all outputs are in mm")
-      ->transform(CLI::CheckedTransformer(kUnits))
+      ->transform(one_of(kUnits))
       ->default_str("mm");
   app.add_option("--mode", options.mode,
                  "shell: wall of --wall mm, pores straight through it; narrow-volume: the paper's Fig. 3b "
                  "(about 3.8 h thick)")
-      ->transform(CLI::CheckedTransformer(kModes))
+      ->transform(one_of(kModes))
       ->default_str("shell");
   app.add_option("--wall", options.wall,
                  "shell wall thickness in mm (default: the band's width 2 delta = 3.81 h)")
@@ -110,7 +126,7 @@ std::optional<Command> parse_command_line(int argc, const char* const* argv) {
       ->check(number_above(0.0, false));
   app.add_option("--offset", options.offset,
                  "where the shell wall lies: centered on the surface, inside or outside it")
-      ->transform(CLI::CheckedTransformer(kOffsets))
+      ->transform(one_of(kOffsets))
       ->default_str("centered");
   app.add_option("--alpha", options.alpha,
                  "nonlocal strength α in eq. (2.1) (paper: 1400 sphere and torus, 2200 bunny)")
@@ -138,6 +154,7 @@ std::optional<Command> parse_command_line(int argc, const char* const* argv) {
       ->capture_default_str();
   app.add_option("--seed", options.seed, "seed of rand(x) in φ(x, 0) = φ̄ + 0.5 rand(x)")
       ->type_name("S")
+      ->check(number_above(0.0, true))
       ->capture_default_str();
   app.add_option(
          "--iso", options.iso,
@@ -224,7 +241,7 @@ std::optional<Command> parse_command_line(int argc, const char* const* argv) {
       ->check(number_above(0.0, false));
   app.add_option("--solver", options.solver,
                  "fast: stabilised scheme, band multigrid (docs/solver.md); reference: the paper's scheme")
-      ->transform(CLI::CheckedTransformer(kSolvers))
+      ->transform(one_of(kSolvers))
       ->default_str("fast");
   app.add_option("--fast-tol", options.fast_tolerance, "fast solver: bound on the error of each step's solve")
       ->type_name("T")
@@ -243,7 +260,7 @@ std::optional<Command> parse_command_line(int argc, const char* const* argv) {
       ->check(CLI::IsMember({"auto", "off"}))
       ->capture_default_str();
   app.add_option("--inner", options.inner, "reference solver: inner relaxation per step (paper: jacobi)")
-      ->transform(CLI::CheckedTransformer(kInners))
+      ->transform(one_of(kInners))
       ->default_str("gauss-seidel");
   app.add_option("--inner-tol", options.inner_tolerance,
                  "inner tolerance on the max-norm scaled residual of eqs. (2.3)-(2.4)")
@@ -296,7 +313,11 @@ std::optional<Command> parse_command_line(int argc, const char* const* argv) {
       app.exit(e);
       return std::nullopt;
     }
-    throw UsageError(e.what());
+    std::string message = e.what();
+    // CLI11's "--wall: At Most 1 required but received 2" for a repeated option.
+    if (const auto at = message.find(": At Most 1 required but received"); at != std::string::npos)
+      message = message.substr(0, at) + " given more than once; give it once";
+    throw UsageError(message);
   }
   if (!app.remaining().empty()) throw UsageError(unknown_argument_message(app, app.remaining().front()));
   if (output.empty()) throw UsageError("no output file: give -o OUT.stl");

@@ -73,7 +73,8 @@ void validate(const Options& c) {
   require(c.energy_every >= 0, "energy_every", "`energy_every` must be >= 0 (0 turns the energy off)");
   require(c.initial_amplitude >= 0.0 && finite(c.initial_amplitude), "initial_amplitude",
           "`initial_amplitude` must be >= 0");
-  require(c.threads >= 0, "threads", "`threads` must be >= 0 (0: all cores)");
+  require(c.threads >= 0 && c.threads <= 4096, "threads",
+          "`threads` must lie between 0 (all cores) and 4096");
   require(!c.iso.empty(), "iso", "give at least one `iso` level");
   for (std::size_t i = 0; i < c.iso.size(); ++i) {
     require(c.iso[i] > -1.0 && c.iso[i] < 1.0, "iso", "`iso` levels must lie strictly between -1 and 1");

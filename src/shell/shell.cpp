@@ -79,7 +79,9 @@ ShellSamples sample_shell(const Surface& surface, const NarrowBand& band, std::s
   for (int a = 0; a < 3; ++a) {
     const double n = std::ceil(extent[a] / h) + 1.0;
     if (n > 1 << 20)
-      throw InputError("the shell's grid would be too large: choose a larger voxel size or wall");
+      throw OptionError("wall",
+                        "the shell's grid would be too large for this `wall`: ask for a wall well below "
+                        "the model's size, or a larger `voxel_size`");
     dims[a] = static_cast<int>(n);
   }
   ShellSamples out;

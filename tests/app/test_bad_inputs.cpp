@@ -28,14 +28,18 @@ namespace fs = std::filesystem;
 const std::string kSmallRun = "--resolution 33 --alpha 84 --max-steps 5 --tol 1e-12 --quiet";
 
 struct Row {
-  std::string name;     // the table's row
-  std::string file;     // written in the input folder (empty: none)
-  std::string content;  // of `file`
-  std::string args;     // the input options; FILE stands for the file's path
-  int exit_code = 1;    // 2: a usage error
-  std::string problem;  // the message names the problem...
-  std::string fix;      // ...and what to do
+  std::string name;             // the table's row
+  std::string file;             // written in the input folder (empty: none)
+  std::string content;          // of `file`
+  std::string args;             // the input options; FILE stands for the file's path
+  int exit_code = 1;            // 2: a usage error
+  std::string problem;          // the message names the problem...
+  std::string fix;              // ...and what to do
+  std::string run = kSmallRun;  // the rest of the command line
 };
+
+// Option rows: the default sphere, so that a row's options conflict with nothing here.
+const std::string kOptionRun = "--max-steps 5 --tol 1e-12 --quiet";
 
 std::string read_file(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
@@ -268,6 +272,102 @@ std::vector<Row> rows() {
        "line 1: expected three numbers", "one point a line"},
       {"--mesh with --points", "m.obj", tet_obj("10"), "--mesh FILE --points FILE", 2, "excludes",
        "poreshell --help"},
+      {"--resolution 0", "", "", "--resolution 0", 2, "--resolution: must be a number > 0, got '0'",
+       "see poreshell --help", kOptionRun},
+      {"--resolution 1", "", "", "--resolution 1", 1, "--resolution must be at least 9", "at least 9",
+       kOptionRun},
+      {"--resolution 3", "", "", "--resolution 3", 1, "--resolution must be at least 9", "at least 9",
+       kOptionRun},
+      {"--resolution 100000", "", "", "--resolution 100000", 1, "--resolution above 2048", "is not supported",
+       kOptionRun},
+      {"--resolution malformed", "", "", "--resolution 12x", 2, "got '12x'", "see poreshell --help",
+       kOptionRun},
+      {"--hole-diameter negative", "", "", "--hole-diameter -5", 2, "--hole-diameter: must be a number > 0",
+       "see poreshell --help", kOptionRun},
+      {"--hole-diameter zero", "", "", "--hole-diameter 0", 2, "--hole-diameter: must be a number > 0",
+       "see poreshell --help", kOptionRun},
+      {"--hole-diameter NaN", "", "", "--hole-diameter nan", 2, "got 'nan'", "see poreshell --help",
+       kOptionRun},
+      {"--hole-diameter huge", "", "", "--hole-diameter 1e9", 1, "holes this large leave only",
+       "ask for smaller holes", kOptionRun},
+      {"--spacing below the diameter", "", "", "--hole-diameter 5 --spacing 4", 1,
+       "would leave bridges too thin", "the nearest feasible requests are", kOptionRun},
+      {"--spacing infinite", "", "", "--spacing inf", 2, "--spacing: must be a number > 0",
+       "see poreshell --help", kOptionRun},
+      {"--porosity above what holes give", "", "", "--hole-diameter 5 --porosity 1.5", 1,
+       "--porosity 1.5 is outside", "use a porosity between", kOptionRun},
+      {"--wall 0", "", "", "--wall 0", 2, "--wall: must be a number > 0", "see poreshell --help", kOptionRun},
+      {"--wall 1e6", "", "", "--wall 1e6 --resolution 33", 1, "too large for this --wall",
+       "ask for a wall well below", kOptionRun},
+      {"--alpha negative", "", "", "--alpha -1", 2, "--alpha: must be a number >= 0", "see poreshell --help",
+       kOptionRun},
+      {"--tol 0", "", "", "--tol 0", 2, "--tol: must be a number > 0", "see poreshell --help", kOptionRun},
+      {"--max-steps 0", "", "", "--max-steps 0", 2, "--max-steps: must be a number > 0",
+       "see poreshell --help", kOptionRun},
+      {"--threads -1", "", "", "--threads -1", 2, "--threads: must be a number >= 0", "see poreshell --help",
+       kOptionRun},
+      {"--threads 100000", "", "", "--threads 100000", 1, "--threads must lie between",
+       "0 (all cores) and 4096", kOptionRun},
+      {"--iso out of range", "", "", "--iso 2", 1, "--iso levels must lie strictly between -1 and 1",
+       "between -1 and 1", kOptionRun},
+      {"--iso malformed", "", "", "--iso 0.3,abc", 2, "--iso", "see poreshell --help", kOptionRun},
+      {"--phi-bar out of range", "", "", "--phi-bar 2", 1, "--phi-bar must lie strictly between -1 and 1",
+       "between -1 and 1", kOptionRun},
+      {"--epsilon-m negative", "", "", "--epsilon-m -1", 2, "--epsilon-m: must be a number > 0",
+       "see poreshell --help", kOptionRun},
+      {"--dt-h 0", "", "", "--dt-h 0", 2, "--dt-h: must be a number > 0", "see poreshell --help", kOptionRun},
+      {"--voxel-size 0", "", "", "--voxel-size 0", 2, "--voxel-size: must be a number > 0",
+       "see poreshell --help", kOptionRun},
+      {"--voxel-size too fine", "", "", "--voxel-size 1e-6", 1,
+       "grid points along the longest side (at most 2048)", "choose a larger voxel size", kOptionRun},
+      {"--grade malformed axis", "", "", "--hole-diameter 6 --grade axis:q:4:8", 1, "--grade 'axis:q:4:8'",
+       "the axis is x, y or z", kOptionRun},
+      {"--grade with NaN", "", "", "--hole-diameter 6 --grade axis:z:nan:8", 1, "'nan' is not a number",
+       "use axis:x|y|z:D1:D2", kOptionRun},
+      {"--keep-out with NaN", "", "", "--keep-out 1,2,nan,4", 2, "--keep-out '1,2,nan,4' is not X,Y,Z,R",
+       "four numbers, mm", kOptionRun},
+      {"--keep-out with three numbers", "", "", "--keep-out 1,2,3", 2, "--keep-out '1,2,3' is not X,Y,Z,R",
+       "four numbers, mm", kOptionRun},
+      {"--keep-out negative radius", "", "", "--keep-out 1,2,3,-4", 1, "--keep-out takes X,Y,Z,R",
+       "a radius R > 0", kOptionRun},
+      {"--keep-out-box with five numbers", "", "", "--keep-out-box 0,0,0,1,1", 2, "is not X0,Y0,Z0,X1,Y1,Z1",
+       "six numbers, mm", kOptionRun},
+      {"--keep-out-box with Inf", "", "", "--keep-out-box 0,0,0,inf,1,1", 2, "is not X0,Y0,Z0,X1,Y1,Z1",
+       "six numbers, mm", kOptionRun},
+      {"--keep-out-box inverted", "", "", "--keep-out-box 1,0,0,0,1,1", 1,
+       "--keep-out-box takes X0,Y0,Z0,X1,Y1,Z1", "with X0 < X1", kOptionRun},
+      {"--rim negative", "", "", "--rim -1", 2, "--rim: must be a number >= 0", "see poreshell --help",
+       kOptionRun},
+      {"--max-triangles negative", "", "", "--max-triangles -5", 2, "--max-triangles: must be a number >= 0",
+       "see poreshell --help", kOptionRun},
+      {"--max-deviation 0", "", "", "--max-deviation 0", 2, "--max-deviation: must be a number > 0",
+       "see poreshell --help", kOptionRun},
+      {"--max-memory 0", "", "", "--max-memory 0", 2, "--max-memory: must be a number > 0",
+       "see poreshell --help", kOptionRun},
+      {"--max-seconds 0", "", "", "--max-seconds 0", 2, "--max-seconds: must be a number > 0",
+       "see poreshell --help", kOptionRun},
+      {"--scale NaN", "", "", "--scale nan", 2, "--scale: must be a number > 0, got 'nan'",
+       "see poreshell --help", kOptionRun},
+      {"--seed negative", "", "", "--seed -1", 2, "--seed: must be a number >= 0", "see poreshell --help",
+       kOptionRun},
+      {"--units unknown", "", "", "--units furlong", 2, "'furlong' is not one of cm, inch, m, mm",
+       "see poreshell --help", kOptionRun},
+      {"--offset unknown", "", "", "--offset sideways", 2,
+       "'sideways' is not one of centered, inside, outside", "see poreshell --help", kOptionRun},
+      {"--stop unknown", "", "", "--stop sometimes", 2, "'sometimes' is not one of auto, holes, paper",
+       "see poreshell --help", kOptionRun},
+      {"--alpha with --hole-diameter", "", "", "--hole-diameter 5 --alpha 2200", 2,
+       "--alpha excludes --hole-diameter", "see poreshell --help", kOptionRun},
+      {"misspelt option", "", "", "--resolutoin 131", 2, "unknown argument '--resolutoin'",
+       "did you mean --resolution?", kOptionRun},
+      {"option given twice", "", "", "--wall 2 --wall 3", 2, "--wall given more than once", "give it once",
+       kOptionRun},
+      {"no output", "", "", "--resolution 33", 2, "no output file", "give -o OUT.stl", kOptionRun},
+      {"unknown extension out", "", "", "--resolution 33 -o out.vtk", 1, ".vtk", ".stl", kOptionRun},
+      {"output folder does not exist", "", "", "--resolution 33 -o /nonexistent-poreshell/out.stl", 1,
+       "the directory '/nonexistent-poreshell' does not exist", "create it or choose another", kOptionRun},
+      {"output folder cannot be written", "", "", "--resolution 33 -o /proc/out.stl", 1,
+       "cannot create a file in '/proc'", "check that the directory is writable", kOptionRun},
   };
   return r;
 }
@@ -301,11 +401,10 @@ TEST_F(BadInputs, EachRowFailsWithOneErrorLineNamingProblemAndFixAndWritesNothin
       replace_all("FILE", quoted(in / row.file));
     }
     replace_all("FOLDER", quoted(in / "folder.stl"));
-    if (args.find(" -o ") == std::string::npos) args += " -o out.stl";
+    if (args.find(" -o ") == std::string::npos && row.name != "no output") args += " -o out.stl";
     const fs::path log = root_ / "stderr";
     const std::string command = "cd '" + out.string() + "' && '" + PORESHELL_EXE + "' " + args + " " +
-                                kSmallRun + " --report out.json >/dev/null 2>'" + log.string() +
-                                "' </dev/null";
+                                row.run + " --report out.json >/dev/null 2>'" + log.string() + "' </dev/null";
     const int status = std::system(command.c_str());
     ASSERT_TRUE(WIFEXITED(status)) << "killed by a signal: " << command;
     EXPECT_EQ(WEXITSTATUS(status), row.exit_code);
