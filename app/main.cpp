@@ -103,6 +103,7 @@ int run(int argc, char** argv) {
   // Every mesh was built and checked before any is written; each is written to a temporary name and
   // renamed.
   poreshell::Report& r = result.report;
+  r.command_line = command.arguments;
   writing = true;
   const auto start_write = std::chrono::steady_clock::now();
   for (std::size_t i = 0; i < result.outputs.size(); ++i) {

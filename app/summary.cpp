@@ -139,6 +139,17 @@ void print_summary(const poreshell::Options& c, const poreshell::Report& r,
       fmt::print("  on mesh  {} holes at mid-wall, diameter {:.4g} mm, circularity {:.3f}\n",
                  outputs[i].holes.size(), diameter / n, circularity / n);
     }
+    // What the zones asked for, as measured on the holes.
+    if (c.rim > 0.0 && !std::isnan(m.zones.rim))
+      fmt::print("  rim      {:.3g} mm from the open boundary to the nearest hole (asked {:g} mm)\n",
+                 m.zones.rim, c.rim);
+    if (!std::isnan(m.zones.keep_out_clearance))
+      fmt::print("  keep-out {} zones, {}; nearest hole edge {:.3g} mm from one\n",
+                 c.keep_out.size() + c.keep_out_boxes.size(),
+                 m.zones.holes_in_keep_outs == 0
+                     ? std::string("no hole reaches in")
+                     : fmt::format("{} HOLES REACH IN", m.zones.holes_in_keep_outs),
+                 m.zones.keep_out_clearance);
     fmt::print(
         "  output   {} (iso {:g}): {} triangles, {}, {}, smallest angle {:.1f} deg, Euler characteristic {}, "
         "pores from Euler {} vs {} spots on band\n",

@@ -4,12 +4,14 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "poreshell/geometry.hpp"
+#include "poreshell/options.hpp"
 
 namespace poreshell {
 
@@ -62,9 +64,20 @@ struct LevelReport {
   std::int64_t spots_at_iso = 0;        // connected components of {phi > iso} on the band
   std::int64_t pores_from_euler = 0;    // (chi of the unperforated solid - chi) / 2
   std::int64_t hole_table_dropped = 0;  // band spots that are no pore of the mesh (notches at an open edge)
+  // What the solid zones asked for, measured on this output's holes (mm; NaN where it does not apply):
+  // the least distance from a hole's edge to the open boundary (the rim left), and to a keep-out
+  // (negative: a hole reaches in; holes_in_keep_outs counts those).
+  struct {
+    double rim = std::numeric_limits<double>::quiet_NaN();
+    double keep_out_clearance = std::numeric_limits<double>::quiet_NaN();
+    std::int64_t holes_in_keep_outs = 0;
+  } zones;
 };
 
 struct Report {
+  std::string version;                    // the library's (poreshell::version())
+  std::vector<std::string> command_line;  // set by a front end (the CLI's arguments); empty otherwise
+  Options settings;                       // every option as given to perforate()
   struct {
     std::string kind;  // shape, mesh or points
     std::string name;

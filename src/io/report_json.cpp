@@ -7,6 +7,11 @@ namespace {
 
 using nlohmann::json;
 
+// NaN is not JSON: an energy never evaluated is null.
+json number_or_null(double x) {
+  return std::isnan(x) ? json(nullptr) : json(x);
+}
+
 json level_json(const LevelReport& m, const Report& r) {
   const TopologyReport& t = m.topology;
   return {{"iso", m.iso},
@@ -28,6 +33,12 @@ json level_json(const LevelReport& m, const Report& r) {
             {"removed_volume_mm3", m.parts.removed_volume}}},
           {"spots_at_iso", m.spots_at_iso},
           {"hole_table_dropped", m.hole_table_dropped},
+          {"applied",
+           {{"rim_requested_mm", r.settings.rim},
+            {"rim_measured_mm", number_or_null(m.zones.rim)},
+            {"keep_outs", r.settings.keep_out.size() + r.settings.keep_out_boxes.size()},
+            {"keep_out_clearance_mm", number_or_null(m.zones.keep_out_clearance)},
+            {"holes_in_keep_outs", m.zones.holes_in_keep_outs}}},
           {"holes",
            {{"count", m.holes.count},
             {"diameter_mean_mm", m.holes.diameter_mean},
@@ -48,9 +59,72 @@ json level_json(const LevelReport& m, const Report& r) {
             {"probes", m.wall.probes}}}};
 }
 
-// NaN is not JSON: an energy never evaluated is null.
-json number_or_null(double x) {
-  return std::isnan(x) ? json(nullptr) : json(x);
+// Every option by its API name (the Python keywords; the CLI's flags with - for _), so that a report
+// says exactly what was asked for.
+json settings_json(const Options& o) {
+  static constexpr const char* kModes[] = {"shell", "narrow_volume"};
+  static constexpr const char* kOffsets[] = {"centered", "inside", "outside"};
+  static constexpr const char* kSolvers[] = {"fast", "reference"};
+  static constexpr const char* kInners[] = {"gauss_seidel", "jacobi"};
+  static constexpr const char* kStops[] = {"auto", "paper", "holes"};
+  static constexpr const char* kRoutes[] = {"direct", "paper"};
+  static constexpr const char* kGrades[] = {"axis", "line", "radial", "field"};
+  const auto name = [](const auto& names, auto value) { return names[static_cast<int>(value)]; };
+  json grade = nullptr;
+  if (o.grade)
+    grade = {{"kind", name(kGrades, o.grade->kind)},
+             {"axis", o.grade->axis},
+             {"from", o.grade->from},
+             {"to", o.grade->to},
+             {"from_diameter", o.grade->from_diameter},
+             {"to_diameter", o.grade->to_diameter},
+             {"radius", o.grade->radius},
+             {"field", o.grade->field},
+             {"mapped", o.grade->mapped}};
+  json keep_out = json::array(), keep_out_boxes = json::array();
+  for (const KeepOutSphere& k : o.keep_out) keep_out.push_back({{"centre", k.centre}, {"radius", k.radius}});
+  for (const KeepOutBox& k : o.keep_out_boxes) keep_out_boxes.push_back({{"min", k.min}, {"max", k.max}});
+  return {{"scale", o.scale},
+          {"hole_diameter", o.hole_diameter},
+          {"spacing", o.spacing},
+          {"porosity", o.porosity},
+          {"grade", grade},
+          {"resolution", o.resolution},
+          {"voxel_size", o.voxel_size},
+          {"mode", name(kModes, o.mode)},
+          {"wall", o.wall},
+          {"offset", name(kOffsets, o.offset)},
+          {"rim", o.rim},
+          {"thin_feature_ratio", o.thin_feature_ratio},
+          {"crease_angle", o.crease_angle},
+          {"keep_out", keep_out},
+          {"keep_out_boxes", keep_out_boxes},
+          {"keep_out_mask", o.keep_out_mask},
+          {"keep_fragments", o.keep_fragments},
+          {"min_part_fraction", o.min_part_fraction},
+          {"max_triangles", o.max_triangles},
+          {"max_deviation", o.max_deviation},
+          {"alpha", o.alpha},
+          {"epsilon_m", o.epsilon_m},
+          {"dt_h", o.dt_h},
+          {"phi_bar", o.phi_bar},
+          {"iso", o.iso},
+          {"initial_amplitude", o.initial_amplitude},
+          {"seed", o.seed},
+          {"preview", o.preview},
+          {"stop", name(kStops, o.stop)},
+          {"tolerance", o.tolerance},
+          {"max_steps", o.max_steps},
+          {"solver", name(kSolvers, o.solver)},
+          {"fast_tolerance", o.fast_tolerance},
+          {"min_stabilisation", o.min_stabilisation},
+          {"coarse_start", o.coarse_start},
+          {"inner", name(kInners, o.inner)},
+          {"inner_tolerance", o.inner_tolerance},
+          {"energy_every", o.energy_every},
+          {"point_route", name(kRoutes, o.point_route)},
+          {"max_memory_gb", o.max_memory_gb},
+          {"threads", o.threads}};
 }
 
 }  // namespace
@@ -109,6 +183,9 @@ json to_json(const Report& r, std::span<const Output> outputs) {
                     {"seconds", c->seconds}};
   const double mm_per_grid = r.input.mm_per_unit / r.input.scale_to_grid;
   return {
+      {"version", r.version},
+      {"command_line", r.command_line},
+      {"settings", settings_json(r.settings)},
       {"input",
        {{"kind", r.input.kind},
         {"name", r.input.name},

@@ -14,13 +14,6 @@
 namespace poreshell {
 namespace {
 
-double segment_distance(const Vec3& p, const Segment& s) {
-  const Vec3 d = s[1] - s[0];
-  const double len2 = d.squaredNorm();
-  const double t = len2 > 0.0 ? std::clamp((p - s[0]).dot(d) / len2, 0.0, 1.0) : 0.0;
-  return (p - (s[0] + t * d)).norm();
-}
-
 // Segments bucketed by the cells of size `cell` that their boxes, grown by `cell`, overlap: every
 // segment within `cell` of a point is in the point's own bucket.
 class SegmentBuckets {
@@ -67,6 +60,13 @@ std::vector<Segment> boundary_segments(const TriangleMesh& mesh) {
     out.push_back(
         {mesh.vertices[static_cast<std::size_t>(e[0])], mesh.vertices[static_cast<std::size_t>(e[1])]});
   return out;
+}
+
+double segment_distance(const Vec3& p, const Segment& s) {
+  const Vec3 d = s[1] - s[0];
+  const double len2 = d.squaredNorm();
+  const double t = len2 > 0.0 ? std::clamp((p - s[0]).dot(d) / len2, 0.0, 1.0) : 0.0;
+  return (p - (s[0] + t * d)).norm();
 }
 
 // Signed distance to an axis-aligned box: negative inside (minus the distance to the nearest face).

@@ -26,6 +26,10 @@ struct SolidBox {
   Vec3 min = Vec3::Zero(), max = Vec3::Zero();  // axis-aligned corners
 };
 
+// Distance from a point to a segment, and the signed distance to a box (negative inside).
+double segment_distance(const Vec3& p, const Segment& s);
+double box_distance(const Vec3& x, const SolidBox& b);
+
 // Edges with exactly one incident triangle (the open boundary), as segments.
 std::vector<Segment> boundary_segments(const TriangleMesh& mesh);
 

@@ -80,7 +80,7 @@ ShellSamples sample_printable_shell(const Options& c, const PlacedSurface& place
 
 // A preview's output: the surface as a thin slab of the band ({|psi| < h}, closed at the band's grid
 // resolution) with phi at each vertex, and the band's holes.
-void preview_output(double level, const PlacedSurface& placed, const NarrowBand& band,
+void preview_output(double level, const Options& options, const PlacedSurface& placed, const NarrowBand& band,
                     std::span<const double> phi, PipelineResult& result, RunMonitor& monitor) {
   monitor.stage("mesh");
   const auto t = std::chrono::steady_clock::now();
@@ -88,6 +88,9 @@ void preview_output(double level, const PlacedSurface& placed, const NarrowBand&
   out.iso = level;
   out.holes = hole_stats_mm(band, phi, level, placed);
   out.spots_at_iso = static_cast<std::int64_t>(out.holes.holes.size());
+  std::vector<HoleDisc> discs;
+  for (const BandHole& h : out.holes.holes) discs.push_back({h.centre, h.diameter});
+  out.zones = check_zones(discs, options, placed);
   out.mesh = surface_slab_mesh(band);
   monitor.check();
   out.pattern.resize(out.mesh.vertices.size());
@@ -180,7 +183,7 @@ PipelineResult run_pipeline(const Input& input, const Options& given, RunMonitor
   std::vector<double> phi = std::move(solved.phi);
   result.spots = spot_statistics(band, phi, 0.0);
   if (options.preview) {
-    preview_output(options.iso.front(), placed, band, phi, result, monitor);
+    preview_output(options.iso.front(), options, placed, band, phi, result, monitor);
     result.seconds_total = seconds_since(start);
     result.peak_rss_total = peak_rss_bytes();
     monitor.advance(1.0, {}, 0, true);
@@ -259,6 +262,9 @@ PipelineResult run_pipeline(const Input& input, const Options& given, RunMonitor
     out.hole_table = output_hole_table(out.mesh, out.holes, placed, grid.h(), result.solid.wall_mm,
                                        result.solid.spacing_mm,
                                        shell_mode ? options.offset : WallOffset::centered, side.side);
+    std::vector<HoleDisc> discs;
+    for (const HoleRecord& h : out.hole_table.holes) discs.push_back({h.centre, h.diameter});
+    out.zones = check_zones(discs, options, placed);
     share.advance(1.0);
   }
   result.seconds_mesh = seconds_since(t);

@@ -23,6 +23,7 @@
 #include "shell/mesh_decimate.hpp"
 #include "shell/parts.hpp"
 #include "shell/wall_measure.hpp"
+#include "shell/zone_check.hpp"
 #include "solver/coarse_start.hpp"
 #include "solver/fast_solver.hpp"
 #include "solver/model.hpp"
@@ -43,6 +44,7 @@ struct MeshOutput {
   std::int64_t spots_at_iso = 0;            // connected components of {phi > iso} on the band
   std::int64_t pores_from_euler = 0;        // (chi of the unperforated solid - chi) / 2
   std::vector<double> pattern;              // a preview: phi per vertex of `mesh`
+  ZoneCheck zones;                          // the rim and keep-outs, measured on the holes
 };
 
 // The printable solid as built (lengths in mm, the unit of every output).

@@ -23,6 +23,9 @@ LevelReport level_report(const MeshOutput& m) {
   l.spots_at_iso = m.spots_at_iso;
   l.pores_from_euler = m.pores_from_euler;
   l.hole_table_dropped = static_cast<std::int64_t>(m.hole_table.dropped);
+  l.zones.rim = m.zones.rim;
+  l.zones.keep_out_clearance = m.zones.keep_out_clearance;
+  l.zones.holes_in_keep_outs = m.zones.holes_in_keep_outs;
   return l;
 }
 
@@ -30,6 +33,8 @@ LevelReport level_report(const MeshOutput& m) {
 
 Report make_report(const PipelineResult& r, const Options& options) {
   Report report;
+  report.version = PORESHELL_VERSION;
+  report.settings = options;
   const InputSummary& in = r.input;
   report.input = {in.kind,
                   in.name,

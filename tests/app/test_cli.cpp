@@ -267,6 +267,17 @@ TEST_F(Cli, SmallRunWritesStlAndReport) {
   EXPECT_EQ(report["mesh"]["triangles"], triangles);
   EXPECT_EQ(report["mesh"]["closed"], true);
   EXPECT_EQ(report["mesh"]["manifold"], true);
+  // What was asked: the command line as given, the version, every setting by its API name.
+  const nlohmann::json& line = report["command_line"];
+  ASSERT_TRUE(line.is_array() && line.size() > 4) << line;
+  EXPECT_EQ(line.back(), "X.json");
+  EXPECT_NE(std::find(line.begin(), line.end(), "--max-steps"), line.end());
+  EXPECT_FALSE(report["version"].get<std::string>().empty());
+  EXPECT_EQ(report["settings"]["max_steps"], 5);
+  EXPECT_EQ(report["settings"]["seed"], 1);
+  EXPECT_EQ(report["settings"]["offset"], "centered");
+  EXPECT_EQ(report["settings"].size(), 41u) << "a new option needs its line in settings_json";
+  EXPECT_TRUE(report["mesh"]["applied"]["rim_measured_mm"].is_null());  // a sphere has no boundary
 
   std::vector<std::string> names = files_in_work();
   std::sort(names.begin(), names.end());

@@ -63,12 +63,6 @@ std::vector<double> pattern_with_zones(const NarrowBand& band, const std::vector
   return phi;
 }
 
-double segment_distance(const Vec3& p, const Segment& s) {
-  const Vec3 d = s[1] - s[0];
-  const double t = std::clamp((p - s[0]).dot(d) / d.squaredNorm(), 0.0, 1.0);
-  return (p - (s[0] + t * d)).norm();
-}
-
 }  // namespace
 
 TEST(SolidZones, BoundarySegmentsAreTheEdgesWithOneTriangle) {
