@@ -1,5 +1,6 @@
 #include "pipeline/pipeline.hpp"
 
+#include <fmt/core.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -250,9 +251,19 @@ PipelineResult run_pipeline(const Input& input, const Options& given, RunMonitor
     share.advance(meshed);
     for (Vec3& v : out.mesh.vertices) v = placed.to_mm(v);
     if (!options.keep_fragments) out.parts = keep_main_parts(out.mesh, options.min_part_fraction);
-    if (options.max_triangles > 0)
+    if (options.max_triangles > 0) {
       out.reduction = decimate_mesh(
           out.mesh, {options.max_triangles, options.max_deviation, share.part(meshed, reduced)});
+      // A budget is a promise to the printer or the viewer downstream: not met, nothing is written.
+      if (!out.reduction->reached_target)
+        throw OptionError(
+            "max_triangles",
+            fmt::format("`max_triangles` {} cannot be met within `max_deviation` {:g} mm: the reduction "
+                        "stopped at {} triangles, the fewest it reaches within that bound; ask for at least "
+                        "{}, or allow a larger `max_deviation` (at most a quarter of the wall, {:.3g} mm)",
+                        options.max_triangles, options.max_deviation, out.reduction->triangles_after,
+                        out.reduction->triangles_after, 0.25 * result.solid.wall_mm));
+    }
     out.topology = analyze_topology(out.mesh, share.part(reduced, 0.9));
     out.pores_from_euler = (result.unperforated_euler - out.topology.euler_characteristic) / 2;
     check_printable(out.topology, out.iso);

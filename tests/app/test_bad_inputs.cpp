@@ -340,6 +340,8 @@ std::vector<Row> rows() {
        kOptionRun},
       {"--max-triangles negative", "", "", "--max-triangles -5", 2, "--max-triangles: must be a number >= 0",
        "see poreshell --help", kOptionRun},
+      {"--max-triangles out of reach", "", "", "--resolution 40 --max-triangles 50 --max-deviation 0.01", 1,
+       "--max-triangles 50 cannot be met within --max-deviation 0.01 mm", "ask for at least", kOptionRun},
       {"--max-deviation 0", "", "", "--max-deviation 0", 2, "--max-deviation: must be a number > 0",
        "see poreshell --help", kOptionRun},
       {"--max-memory 0", "", "", "--max-memory 0", 2, "--max-memory: must be a number > 0",
