@@ -18,7 +18,9 @@ constexpr int kTopBlock = 64;  // side of the blocks the scan starts from (one t
 // within its diagonal, sqrt(3) cells, of each other and the distance is 1-Lipschitz (a little more
 // than sqrt(3) against rounding).
 constexpr double kReachCells = 1.7325;
-constexpr double kMarginCells = 4.0;  // the shell grid's extent beyond the slab: the reach and spare cells
+// The shell grid's extent beyond the slab: the reach and spare cells, and half a cell more so that the
+// wall's faces fall midway between grid planes where the surface touches its box (see sample_shell).
+constexpr double kMarginCells = 4.5;
 
 struct Sample {
   Coord point;
@@ -58,7 +60,17 @@ ShellSamples sample_shell(const Surface& surface, const NarrowBand& band, std::s
                                                                        : 0.0;
   const double reach = std::abs(center_offset) + 0.5 * t + kReachCells * h;  // in unsigned distance
 
-  // A grid of spacing h around the surface's box, spare cells beyond the reach on every side.
+  // A grid of spacing h around the surface's box, spare cells beyond the reach on every side. Where the
+  // surface touches the lower side of its box (a flat sheet's plane, a sphere's pole) the faces of the
+  // wall lie at box.min - |c| - t/2 plus multiples of t: with a whole number of cells in the margin they
+  // would lie on grid planes, where F is 0 at grid points (a point on the surface counts as outside) and
+  // the isosurface's crossings, kept kSnap = 0.05 of an edge from a grid point, move each face by 0.05 h
+  // into the solid, or out of it when rounding makes F slightly negative: a 2 mm wall at h = t/3 measured
+  // 1.933 mm on a flat sheet and at a sphere's poles, or 2 mm displaced by 0.033 mm. Half a cell more
+  // puts those faces midway between grid planes: there, and wherever t is a whole number of cells (h =
+  // t/3 when refined), both faces of a flat wall cross their edges at the same parameter, so the clamp
+  // moves them alike and keeps the thickness. (On the band's grid, used as it is, the faces lie on grid
+  // planes only if the surface does and t/2 is a whole number of cells.)
   const Box box = surface.bounds();
   const Vec3 margin = Vec3::Constant(std::abs(center_offset) + 0.5 * t + kMarginCells * h);
   const bool exact = surface.closest_point_is_exact();
