@@ -149,31 +149,44 @@ std::pair<std::size_t, double> PointTree::nearest(const Vec3& x) const {
   return {item(best), std::sqrt(best_d2)};
 }
 
+// As nearest(): the nearer child first, so that the k-th distance tightens early and prunes the rest
+// (visiting children in a fixed order made this 25-99 times slower than nanoflann; docs/benchmarks.md).
+// The result does not depend on the order: the k least (distance, index) pairs.
 std::vector<std::size_t> PointTree::k_nearest(const Vec3& x, std::size_t k) const {
   k = std::min(k, points_.size());
+  if (k == 0) return {};
   // Max-heap of the best k (distance, index); its top is the current k-th distance.
   std::priority_queue<std::pair<double, std::size_t>> best;
   const auto kth = [&] {
     return best.size() < k ? std::numeric_limits<double>::infinity() : best.top().first;
   };
-  std::vector<std::int32_t> stack{0};
-  while (!stack.empty()) {
-    const Node& n = nodes_[static_cast<std::size_t>(stack.back())];
-    stack.pop_back();
-    if (bound(n, x) > kth()) continue;
+  std::pair<std::int32_t, double> stack[128];  // depth <= 31 for 2^31 points, two entries a level
+  int top = 0;
+  stack[top++] = {0, bound(nodes_[0], x)};
+  while (top > 0) {
+    const auto [index, node_bound] = stack[--top];
+    if (node_bound > kth()) continue;
+    const Node& n = nodes_[static_cast<std::size_t>(index)];
     if (n.count == 0) {
-      stack.push_back(n.first);
-      stack.push_back(n.first + 1);
+      const double bl = bound(nodes_[static_cast<std::size_t>(n.first)], x);
+      const double br = bound(nodes_[static_cast<std::size_t>(n.first + 1)], x);
+      if (bl < br) {
+        stack[top++] = {n.first + 1, br};
+        stack[top++] = {n.first, bl};
+      } else {
+        stack[top++] = {n.first, bl};
+        stack[top++] = {n.first + 1, br};
+      }
       continue;
     }
     for (std::int32_t s = n.first; s < n.first + n.count; ++s) {
-      const auto i = static_cast<std::size_t>(order_[static_cast<std::size_t>(s)]);
-      const std::pair<double, std::size_t> item{(points_[i] - x).norm(), i};
+      const std::pair<double, std::size_t> candidate{(leaf_points_[static_cast<std::size_t>(s)] - x).norm(),
+                                                     item(s)};
       if (best.size() < k) {
-        best.push(item);
-      } else if (item < best.top()) {
+        best.push(candidate);
+      } else if (candidate < best.top()) {
         best.pop();
-        best.push(item);
+        best.push(candidate);
       }
     }
   }
