@@ -45,6 +45,10 @@ const std::map<std::string, poreshell::StopRule> kStopRules{{"auto", poreshell::
                                                             {"paper", poreshell::StopRule::paper},
                                                             {"holes", poreshell::StopRule::holes}};
 
+const std::map<std::string, poreshell::Layout> kLayouts{{"auto", poreshell::Layout::automatic},
+                                                        {"paper", poreshell::Layout::paper},
+                                                        {"cvt", poreshell::Layout::cvt}};
+
 // --preview and --stop (docs/solver.md "Stop rules").
 void add_stop_flags(CLI::App& app, poreshell::Options& options) {
   app.add_flag("--preview", options.preview,
@@ -55,6 +59,12 @@ void add_stop_flags(CLI::App& app, poreshell::Options& options) {
          "when the run ends: paper (e_c < --tol; the default) or holes (the hole count and boundaries "
          "have settled; the default of --preview, faster, the layout may still glide a little)")
       ->transform(one_of(kStopRules))
+      ->default_str("auto");
+  app.add_option("--layout", options.layout,
+                 "the hole layout: cvt (the equation's, made as even as a centroidal Voronoi tessellation by "
+                 "Lloyd's iteration and a restart from discs; the default with --hole-diameter) or paper "
+                 "(the equation's own; the default with the paper's parameters)")
+      ->transform(one_of(kLayouts))
       ->default_str("auto");
 }
 

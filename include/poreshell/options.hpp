@@ -29,6 +29,11 @@ enum class StopRule {
   paper,      // the paper's: the consecutive change e_c < tolerance
   holes,      // the hole layout has settled: count, centres and boundaries still over a window of steps
 };
+enum class Layout {
+  automatic,  // cvt for holes asked in mm, paper where the paper's parameters are given
+  paper,      // the equation's own layout, as the paper (reproducible figures)
+  cvt,        // then Lloyd's iteration of the hole centres and a restart from discs at them
+};
 enum class PointRoute {
   direct,  // distance to discs fitted to the points (no PDE)
   paper,   // densify, then the segmentation equation (3.3)
@@ -113,6 +118,10 @@ struct Options {
 
   // The run.
   StopRule stop = StopRule::automatic;
+  // The hole layout: the equation's own (the paper's), or spread as evenly as a centroidal Voronoi
+  // tessellation (docs/solver.md "Layout"): the equation's layout, Lloyd's iteration of its hole
+  // centres on the surface, and the equation again from discs at those centres.
+  Layout layout = Layout::automatic;
   double tolerance = 1e-3;  // the paper's rule: stop when e_c < tolerance
   int max_steps = 2000;
   SolverKind solver = SolverKind::fast;

@@ -35,6 +35,7 @@ struct TopologyReport {
 struct SpotHoleStats {
   std::int64_t count = 0;
   double diameter_mean = 0.0, diameter_cv = 0.0, spacing_mean = 0.0, spacing_cv = 0.0, porosity = 0.0;
+  double cell_area_cv = 0.0;  // of the holes' Voronoi cells on the surface: how evenly they are spread
 };
 
 struct ReductionReport {
@@ -133,6 +134,8 @@ struct Report {
     double final_ec = 0.0, tolerance = 0.0;
     bool reached_tolerance = false, inner_converged = true;  // reached_tolerance: the stop rule was met
     std::string stop_rule;                                   // paper (e_c < tolerance) or holes
+    std::string layout;                                      // paper or cvt (Options::layout)
+    std::int64_t layout_steps = 0;  // cvt: the steps after the restart from discs (in `steps`)
     std::optional<CoarseStart> coarse_start;
     double energy_first = 0.0, energy_last = 0.0;  // NaN when not evaluated
     std::vector<std::pair<int, double>> energy_trace;

@@ -45,6 +45,7 @@ json level_json(const LevelReport& m, const Report& r) {
             {"diameter_cv", m.holes.diameter_cv},
             {"spacing_mean_mm", m.holes.spacing_mean},
             {"spacing_cv", m.holes.spacing_cv},
+            {"cell_area_cv", m.holes.cell_area_cv},
             {"porosity", m.holes.porosity}}},
           {"reduction", m.reduction ? json{{"triangles_before", m.reduction->triangles_before},
                                            {"triangles_after", m.reduction->triangles_after},
@@ -68,6 +69,7 @@ json settings_json(const Options& o) {
   static constexpr const char* kInners[] = {"gauss_seidel", "jacobi"};
   static constexpr const char* kStops[] = {"auto", "paper", "holes"};
   static constexpr const char* kRoutes[] = {"direct", "paper"};
+  static constexpr const char* kLayouts[] = {"auto", "paper", "cvt"};
   static constexpr const char* kGrades[] = {"axis", "line", "radial", "field"};
   const auto name = [](const auto& names, auto value) { return names[static_cast<int>(value)]; };
   json grade = nullptr;
@@ -113,6 +115,7 @@ json settings_json(const Options& o) {
           {"seed", o.seed},
           {"preview", o.preview},
           {"stop", name(kStops, o.stop)},
+          {"layout", name(kLayouts, o.layout)},
           {"tolerance", o.tolerance},
           {"max_steps", o.max_steps},
           {"solver", name(kSolvers, o.solver)},
@@ -233,6 +236,8 @@ json to_json(const Report& r, std::span<const Output> outputs) {
         {"final_ec", r.solver.final_ec},
         {"reached_tolerance", r.solver.reached_tolerance},
         {"stop_rule", r.solver.stop_rule},
+        {"layout", r.solver.layout},
+        {"layout_steps", r.solver.layout_steps},
         {"inner_converged", r.solver.inner_converged},
         {"inner_iterations", r.solver.inner_iterations},
         {"repeated_steps", r.solver.repeated_steps},

@@ -46,6 +46,8 @@ struct HoleStats {
   double diameter_mean = 0.0, diameter_cv = 0.0;
   double spacing_mean = 0.0, spacing_cv = 0.0;  // centroid to nearest centroid (among all holes)
   double porosity = 0.0;                        // open share of the surface's area (all holes)
+  // CV of the holes' Voronoi cell areas on the surface (pattern/layout.hpp); set by the pipeline.
+  double cell_area_cv = 0.0;
 };
 
 // `counted` (optional) picks the holes that enter the diameter and spacing statistics by centroid,

@@ -15,6 +15,7 @@
 #include "core/heap.hpp"
 #include "input/vertex_field.hpp"
 #include "pattern/grading.hpp"
+#include "pattern/layout.hpp"
 #include "pattern/solid_zones.hpp"
 #include "pipeline/validate.hpp"
 #include "shell/narrow_volume.hpp"
@@ -46,6 +47,9 @@ HoleStats hole_stats_mm(const NarrowBand& band, std::span<const double> phi, dou
                         const PlacedSurface& placed) {
   const double mm_per_grid = placed.mm_per_grid();
   HoleStats s = hole_statistics(band, phi, level);
+  std::vector<Vec3> centres;
+  for (const BandHole& hole : s.holes) centres.push_back(hole.centre);
+  s.cell_area_cv = cell_area_cv(area_samples(band), centres);
   for (BandHole& hole : s.holes) {
     hole.centroid = placed.to_mm(hole.centroid);
     hole.centre = placed.to_mm(hole.centre);
@@ -181,6 +185,8 @@ PipelineResult run_pipeline(const Input& input, const Options& given, RunMonitor
   result.seconds_solve = seconds_since(t);
   result.peak_rss_after_solve = peak_rss_bytes();
   result.stop_rule = solved.stop_rule;
+  result.layout = solved.layout;
+  result.layout_steps = solved.layout_steps;
   std::vector<double> phi = std::move(solved.phi);
   result.spots = spot_statistics(band, phi, 0.0);
   if (options.preview) {

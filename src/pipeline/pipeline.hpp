@@ -73,6 +73,8 @@ struct PipelineResult {
   std::string solver_name;
   std::string inner_iteration;
   StopRule stop_rule = StopRule::paper;     // the rule the run stopped by
+  Layout layout = Layout::paper;            // the layout made (never automatic)
+  int layout_steps = 0;                     // cvt: steps after the restart from discs
   RunResult run;                            // on this grid
   std::optional<CoarseLevel> coarse_start;  // the run on the pattern's grid before it, if any
   SpotStats spots;                          // at phi > 0

@@ -14,7 +14,8 @@ LevelReport level_report(const MeshOutput& m) {
              m.holes.diameter_cv,
              m.holes.spacing_mean,
              m.holes.spacing_cv,
-             m.holes.porosity};
+             m.holes.porosity,
+             m.holes.cell_area_cv};
   if (m.reduction)
     l.reduction = ReductionReport{m.reduction->triangles_before, m.reduction->triangles_after,
                                   m.reduction->max_distance, m.reduction->reached_target};
@@ -85,6 +86,8 @@ Report make_report(const PipelineResult& r, const Options& options) {
   s.tolerance = options.tolerance;
   s.reached_tolerance = r.run.reached_tolerance;
   s.stop_rule = r.stop_rule == StopRule::holes ? "holes" : "paper";
+  s.layout = r.layout == Layout::cvt ? "cvt" : "paper";
+  s.layout_steps = r.layout_steps;
   report.preview = options.preview;
   s.inner_converged = r.run.inner_converged;
   if (const auto& c = r.coarse_start)

@@ -29,11 +29,17 @@ struct SolveResult {
   std::size_t solver_bytes = 0;             // the solver's own arrays
   std::vector<double> phi;                  // on the band, at the end
   StopRule stop_rule = StopRule::paper;     // the rule that ended the run (never automatic)
+  Layout layout = Layout::paper;            // never automatic
+  int layout_steps = 0;                     // cvt: the steps after the restart from discs (in run.steps)
+  int layout_holes = 0;                     // cvt: the centres Lloyd's iteration gave
 };
 
 // The rule a run stops by: Options::stop, with automatic resolved (holes for a preview, else the
 // paper's).
 StopRule resolve_stop_rule(const Options& options);
+
+// The layout a run makes: Options::layout, with automatic resolved (cvt for holes in mm).
+Layout resolve_layout(const Options& options, bool holes_in_mm);
 
 // The holes rule's settings for this run (docs/solver.md "Stop rules").
 HoleStopOptions hole_stop_options(const Options& options, double min_spread);

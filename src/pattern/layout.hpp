@@ -1,0 +1,44 @@
+#pragma once
+// The hole layout as a centroidal Voronoi tessellation (issue 19): Lloyd's iteration of the hole
+// centres over area samples of the surface, the discs the equation restarts from, and how even a
+// layout is (its Voronoi cells' areas on the surface).
+
+#include <span>
+#include <vector>
+
+#include "band/band.hpp"
+#include "core/types.hpp"
+#include "geometry/surface.hpp"
+
+namespace poreshell {
+
+// The surface as weighted points: each band voxel within h of the surface gives its closest point with
+// the area it carries, h^2 (1 - |psi| / h) (as pattern.cpp's hole areas). Voxels whose solid-zone
+// weight (empty: none) is 1/2 or more give none: no hole may sit there.
+struct AreaSamples {
+  std::vector<Vec3> points;
+  std::vector<double> area;
+};
+AreaSamples area_samples(const NarrowBand& band, std::span<const double> zone_weight = {});
+
+// Each sample's nearest centre (ties: the lower index). Parallel, deterministic.
+std::vector<std::int32_t> nearest_centres(const AreaSamples& samples, std::span<const Vec3> centres);
+
+// The coefficient of variation of the centres' Voronoi cell areas on the surface (the samples' areas
+// summed per nearest centre). 0 for fewer than two centres.
+double cell_area_cv(const AreaSamples& samples, std::span<const Vec3> centres);
+
+// Lloyd's iteration (over-relaxed): each centre moves towards its cell's area centroid, projected onto
+// the surface;
+// centres whose cell holds no area are dropped. Sums in sample order: the same result on any thread
+// count.
+std::vector<Vec3> lloyd_centres(std::vector<Vec3> centres, const AreaSamples& samples, const Surface& surface,
+                                int iterations);
+
+// Discs of `radius` at `centres`, each voxel judged by its closest point: the equation's interface
+// profile tanh(x / (sqrt 2 epsilon)) across the disc's edge (+1 inside: a pore), then shifted so that
+// the band's mean is `mean` (the equation conserves it).
+std::vector<double> disc_field(const NarrowBand& band, std::span<const Vec3> centres, double radius,
+                               double epsilon, double mean);
+
+}  // namespace poreshell
