@@ -9,6 +9,7 @@
 #include "core/error.hpp"
 #include "core/parallel.hpp"
 #include "geometry/isosurface.hpp"
+#include "shell/trim_line.hpp"
 
 namespace poreshell {
 namespace {
@@ -100,6 +101,14 @@ ShellSamples sample_shell(const Surface& surface, const NarrowBand& band, std::s
   out.grid = Grid(grid_origin, h, dims);
   out.pattern_length = options.pattern_length;
 
+  // The open boundary's trim line, asked as far from it as a sample within reach of the surface can
+  // matter: points farther from the boundary are beyond reach, or far behind the trim line.
+  std::optional<TrimLine> trim;
+  if (options.open_mesh != nullptr) {
+    trim.emplace(*options.open_mesh, reach + 2.0 * h);
+    if (trim->empty()) trim.reset();
+  }
+
   const bool signed_needed = options.offset != WallOffset::centered;
   // One test per grid point that also samples it, so that the query deciding whether the point is near
   // enough gives its closest point too. An exact closest point gives the unsigned distance (|x - cp|):
@@ -128,7 +137,11 @@ ShellSamples sample_shell(const Surface& surface, const NarrowBand& band, std::s
     if (signed_needed && options.side) d = std::copysign(std::abs(d), options.side(x, p));
     bool complete = true;
     const double pattern = interpolate_band(band, phi, p, &complete);
-    samples.push_back({c, std::abs(d - center_offset) - 0.5 * t, pattern, !complete});
+    double wall = std::abs(d - center_offset) - 0.5 * t;
+    if (trim) {
+      if (const std::optional<double> beyond = trim->beyond(x)) wall = std::max(wall, *beyond);
+    }
+    samples.push_back({c, wall, pattern, !complete});
     return 0.0;  // within reach
   };
 

@@ -10,6 +10,9 @@
 // slope: the pattern term must be well below the wall term inside the solid, else the crease of the max
 // falls between samples at the faces and thins the wall where bridges are narrow (8 mm holes at 10 mm:
 // a 2 mm wall measured 1.83 mm with s = sqrt(2) eps, 2.00 mm with 4 times that).
+// On an open surface the solid is also cut at the boundary: F = max(F, s), s the signed distance beyond
+// the trim line along the surface's outward tangent (trim_line.hpp), so the wall ends with a flat face
+// at the boundary for every offset instead of a rounded cap that wraps around the edge.
 // Memory grows with the surface area times the wall thickness, never with the bounding box.
 
 #include <functional>
@@ -42,6 +45,9 @@ struct ShellOptions {
   // Needed for inside/outside when the surface's distance is unsigned; empty: the sign of
   // Surface::distance is used.
   SideFunction side;
+  // A mesh input's triangles, in the surface's frame, when it has an open boundary: the wall then ends
+  // there with a flat face across it (trim_line.hpp). Null: no boundary, no trim.
+  const TriangleMesh* open_mesh = nullptr;
   StageProgress progress{};  // the sampling's share of its stage (checked, reported)
 };
 
