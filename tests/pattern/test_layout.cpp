@@ -1,0 +1,99 @@
+// The layout tools (pattern/layout.hpp) on a sphere's band: the surface's area from its samples, the
+// cell-area CV of layouts known to be even or not, Lloyd's iteration making an uneven layout even on
+// the surface, whatever the thread count, and the disc field the equation restarts from.
+
+#include <gtest/gtest.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include "band/band.hpp"
+#include "pattern/layout.hpp"
+
+namespace poreshell {
+namespace {
+
+constexpr double kRadius = 0.35;
+const Vec3 kCentre = Vec3::Constant(0.5);
+
+const Sphere& sphere() {
+  static const Sphere s(kCentre, kRadius);
+  return s;
+}
+
+const NarrowBand& band() {
+  static const NarrowBand b = build_band(sphere(), Grid(Vec3::Zero(), 1.0 / 80, {81, 81, 81}));
+  return b;
+}
+
+std::vector<Vec3> random_points_on_sphere(int n, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> g;
+  std::vector<Vec3> points;
+  for (int i = 0; i < n; ++i) points.push_back(kCentre + kRadius * Vec3(g(rng), g(rng), g(rng)).normalized());
+  return points;
+}
+
+TEST(Layout, AreaSamplesCarryTheSurfacesArea) {
+  const AreaSamples s = area_samples(band());
+  double area = 0.0;
+  for (const double a : s.area) area += a;
+  EXPECT_NEAR(area, 4.0 * std::numbers::pi * kRadius * kRadius, 0.01 * area);
+  for (const Vec3& p : s.points) ASSERT_NEAR((p - kCentre).norm(), kRadius, 1e-9);
+  // Solid zones give no samples: a weight of 1 on every voxel leaves none.
+  EXPECT_TRUE(area_samples(band(), std::vector<double>(band().size(), 1.0)).points.empty());
+}
+
+TEST(Layout, CellAreaCvIsZeroForTheOctahedronAndLargeForRandomPoints) {
+  const AreaSamples s = area_samples(band());
+  std::vector<Vec3> octahedron;
+  for (int axis = 0; axis < 3; ++axis)
+    for (const double sign : {-1.0, 1.0}) octahedron.push_back(kCentre + sign * kRadius * Vec3::Unit(axis));
+  EXPECT_LT(cell_area_cv(s, octahedron), 0.02);
+  EXPECT_GT(cell_area_cv(s, random_points_on_sphere(100, 1)), 0.25);
+  EXPECT_EQ(cell_area_cv(s, std::vector<Vec3>{kCentre}), 0.0);
+}
+
+TEST(Layout, LloydMakesRandomPointsEvenAndKeepsThemOnTheSurface) {
+  const AreaSamples s = area_samples(band());
+  const std::vector<Vec3> start = random_points_on_sphere(100, 2);
+  const std::vector<Vec3> even = lloyd_centres(start, s, sphere(), 30);
+  ASSERT_EQ(even.size(), start.size());
+  for (const Vec3& p : even) EXPECT_NEAR((p - kCentre).norm(), kRadius, 1e-9);
+  // Random: a cell-area CV above 0.25; after 30 iterations about 0.08, a third of it at most.
+  EXPECT_LT(cell_area_cv(s, even), std::min(0.1, cell_area_cv(s, start) / 3.0)) << cell_area_cv(s, start);
+}
+
+TEST(Layout, LloydGivesTheSameCentresOnAnyThreadCount) {
+  const AreaSamples s = area_samples(band());
+  const std::vector<Vec3> start = random_points_on_sphere(60, 3);
+  std::vector<Vec3> one, two;
+  tbb::task_arena(1).execute([&] { one = lloyd_centres(start, s, sphere(), 10); });
+  tbb::task_arena(2).execute([&] { two = lloyd_centres(start, s, sphere(), 10); });
+  ASSERT_EQ(one.size(), two.size());
+  for (std::size_t i = 0; i < one.size(); ++i) EXPECT_EQ(one[i], two[i]);
+}
+
+TEST(Layout, DiscFieldHasTheMeanAndThePhasesAtAndAwayFromTheCentres) {
+  const std::vector<Vec3> centres{kCentre + kRadius * Vec3::UnitZ(), kCentre - kRadius * Vec3::UnitZ()};
+  const double epsilon = 0.01, mean = -0.3;
+  const std::vector<double> phi = disc_field(band(), centres, 0.08, epsilon, mean);
+  double sum = 0.0;
+  for (const double p : phi) sum += p;
+  EXPECT_NEAR(sum / static_cast<double>(phi.size()), mean, 1e-12);
+  // Both phases, 2 apart (the profile's tanh), shifted alike to make the mean.
+  double at_pole = -2.0, at_equator = 2.0;
+  for (std::size_t v = 0; v < band().size(); ++v) {
+    const Vec3 cp = band().closest_point(v);
+    if ((cp - centres[0]).norm() < 0.02) at_pole = std::max(at_pole, phi[v]);
+    if (std::abs(cp.z() - kCentre.z()) < 0.02) at_equator = std::min(at_equator, phi[v]);
+  }
+  EXPECT_GT(at_pole - at_equator, 1.9);
+  EXPECT_LT(at_pole - at_equator, 2.0 + 1e-12);
+}
+
+}  // namespace
+}  // namespace poreshell
