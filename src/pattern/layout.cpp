@@ -76,7 +76,7 @@ std::vector<Vec3> lloyd_centres(std::vector<Vec3> centres, const AreaSamples& sa
 }
 
 std::vector<double> disc_field(const NarrowBand& band, std::span<const Vec3> centres, double radius,
-                               double epsilon, double mean) {
+                               double epsilon, std::span<const double> zone_weight, double mean) {
   std::vector<double> phi(band.size(), -1.0);
   if (!centres.empty()) {
     const PointTree tree(std::vector<Vec3>(centres.begin(), centres.end()));
@@ -85,9 +85,17 @@ std::vector<double> disc_field(const NarrowBand& band, std::span<const Vec3> cen
       phi[v] = std::tanh((radius - tree.nearest(band.closest_point(v)).second) / width);
     });
   }
-  // Sequential: the same sum, so the same bytes, on any thread count.
-  const double shift = mean - std::accumulate(phi.begin(), phi.end(), 0.0) / static_cast<double>(phi.size());
-  for (double& p : phi) p += shift;
+  const auto free = [&](std::size_t v) { return zone_weight.empty() ? 1.0 : 1.0 - zone_weight[v]; };
+  for (std::size_t v = 0; v < zone_weight.size(); ++v) phi[v] = free(v) * phi[v] - zone_weight[v];
+  // Sequential sums: the same bytes on any thread count.
+  double sum = 0.0, free_sum = 0.0;
+  for (std::size_t v = 0; v < phi.size(); ++v) {
+    sum += phi[v];
+    free_sum += free(v);
+  }
+  if (free_sum <= 0.0) return phi;
+  const double shift = (mean * static_cast<double>(phi.size()) - sum) / free_sum;
+  for (std::size_t v = 0; v < phi.size(); ++v) phi[v] += shift * free(v);
   return phi;
 }
 

@@ -36,9 +36,11 @@ std::vector<Vec3> lloyd_centres(std::vector<Vec3> centres, const AreaSamples& sa
                                 int iterations);
 
 // Discs of `radius` at `centres`, each voxel judged by its closest point: the equation's interface
-// profile tanh(x / (sqrt 2 epsilon)) across the disc's edge (+1 inside: a pore), then shifted so that
-// the band's mean is `mean` (the equation conserves it).
+// profile tanh(x / (sqrt 2 epsilon)) across the disc's edge (+1 inside: a pore); solid (-1) where the
+// zone weight (empty: none) is 1, blended as the run's start is; then the free part shifted so that the
+// band's mean is `mean`. The equation conserves the mean, and its nonlocal term has a solution only
+// for the mean it started from: give the mean of the field this one replaces.
 std::vector<double> disc_field(const NarrowBand& band, std::span<const Vec3> centres, double radius,
-                               double epsilon, double mean);
+                               double epsilon, std::span<const double> zone_weight, double mean);
 
 }  // namespace poreshell

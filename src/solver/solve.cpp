@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <numeric>
 
 #include "core/error.hpp"
 #include "core/heap.hpp"
@@ -82,9 +83,10 @@ void relax_to_even_layout(const Options& c, const NarrowBand& band, const Surfac
   const std::vector<double> weight = zones ? zones(band, result.model.epsilon) : std::vector<double>{};
   centres = lloyd_centres(std::move(centres), area_samples(band, weight), surface, kLloydIterations);
   result.layout_holes = static_cast<int>(centres.size());
-  phi = disc_field(band, centres, 0.5 * discs.diameter_mean, result.model.epsilon, result.model.phi_bar);
-  for (std::size_t v = 0; v < weight.size(); ++v) phi[v] = (1.0 - weight[v]) * phi[v] - weight[v];
+  const double mean = std::accumulate(phi.begin(), phi.end(), 0.0) / static_cast<double>(phi.size());
+  phi = disc_field(band, centres, 0.5 * discs.diameter_mean, result.model.epsilon, weight, mean);
   const RunResult first = result.run;
+  solver.restart();
   result.run = run_to_steady_state(solver, phi, nullptr, run_options);
   result.layout_steps = result.run.steps;
 

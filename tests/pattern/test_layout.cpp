@@ -80,7 +80,7 @@ TEST(Layout, LloydGivesTheSameCentresOnAnyThreadCount) {
 TEST(Layout, DiscFieldHasTheMeanAndThePhasesAtAndAwayFromTheCentres) {
   const std::vector<Vec3> centres{kCentre + kRadius * Vec3::UnitZ(), kCentre - kRadius * Vec3::UnitZ()};
   const double epsilon = 0.01, mean = -0.3;
-  const std::vector<double> phi = disc_field(band(), centres, 0.08, epsilon, mean);
+  const std::vector<double> phi = disc_field(band(), centres, 0.08, epsilon, {}, mean);
   double sum = 0.0;
   for (const double p : phi) sum += p;
   EXPECT_NEAR(sum / static_cast<double>(phi.size()), mean, 1e-12);
@@ -93,6 +93,23 @@ TEST(Layout, DiscFieldHasTheMeanAndThePhasesAtAndAwayFromTheCentres) {
   }
   EXPECT_GT(at_pole - at_equator, 1.9);
   EXPECT_LT(at_pole - at_equator, 2.0 + 1e-12);
+}
+
+TEST(Layout, DiscFieldKeepsSolidZonesSolidAndTheMean) {
+  const std::vector<Vec3> centres{kCentre + kRadius * Vec3::UnitX()};
+  std::vector<double> weight(band().size(), 0.0);
+  for (std::size_t v = 0; v < band().size(); ++v)
+    if (band().closest_point(v).z() > kCentre.z() + 0.2) weight[v] = 1.0;
+  const double mean = -0.3;
+  const std::vector<double> phi = disc_field(band(), centres, 0.08, 0.01, weight, mean);
+  double sum = 0.0;
+  for (std::size_t v = 0; v < phi.size(); ++v) {
+    sum += phi[v];
+    if (weight[v] == 1.0) {
+      ASSERT_EQ(phi[v], -1.0);
+    }
+  }
+  EXPECT_NEAR(sum / static_cast<double>(phi.size()), mean, 1e-12);
 }
 
 }  // namespace
