@@ -361,7 +361,8 @@ def perforate(
     **model: the other options by their API names (OPTION_NAMES lists them all):
       resolution (131: grid points along the longest side), voxel_size (mm, instead), alpha (1400),
       epsilon_m (4), dt_h (100), phi_bar (-0.3), iso (0, or a sequence of levels: one output each),
-      initial_amplitude (0.5), tolerance (1e-3), max_steps (2000), solver ('fast' or 'reference'),
+      initial_amplitude (0.5), tolerance (1e-3), max_steps (2000), stop ('auto', 'paper' or 'holes'),
+      layout ('auto', 'paper' or 'cvt': docs/solver.md "Layout"), solver ('fast' or 'reference'),
       fast_tolerance, min_stabilisation, coarse_start (bool), inner ('gauss_seidel' or 'jacobi'),
       inner_tolerance, energy_every, point_route ('direct' or 'paper'), keep_out_mask (a vertex
       field's name), max_triangles, max_deviation (mm), max_memory_gb.
