@@ -135,16 +135,7 @@ std::pair<std::size_t, double> PointTree::nearest(const Vec3& x) const {
       }
       continue;
     }
-    // Nearer child last, so it is popped first.
-    const double bl = squared_bound(nodes_[static_cast<std::size_t>(n.first)]);
-    const double br = squared_bound(nodes_[static_cast<std::size_t>(n.first + 1)]);
-    if (bl < br) {
-      stack[top++] = {n.first + 1, br};
-      stack[top++] = {n.first, bl};
-    } else {
-      stack[top++] = {n.first, bl};
-      stack[top++] = {n.first + 1, br};
-    }
+    push_children(n, squared_bound, stack, top);
   }
   return {item(best), std::sqrt(best_d2)};
 }
@@ -168,15 +159,8 @@ std::vector<std::size_t> PointTree::k_nearest(const Vec3& x, std::size_t k) cons
     if (node_bound > kth()) continue;
     const Node& n = nodes_[static_cast<std::size_t>(index)];
     if (n.count == 0) {
-      const double bl = bound(nodes_[static_cast<std::size_t>(n.first)], x);
-      const double br = bound(nodes_[static_cast<std::size_t>(n.first + 1)], x);
-      if (bl < br) {
-        stack[top++] = {n.first + 1, br};
-        stack[top++] = {n.first, bl};
-      } else {
-        stack[top++] = {n.first, bl};
-        stack[top++] = {n.first + 1, br};
-      }
+      push_children(
+          n, [&](const Node& child) { return bound(child, x); }, stack, top);
       continue;
     }
     for (std::int32_t s = n.first; s < n.first + n.count; ++s) {

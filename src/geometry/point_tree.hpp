@@ -47,6 +47,16 @@ class PointTree {
   }
   template <class F>
   std::pair<std::int32_t, double> closest_slot(const Vec3& x, F&& slot_distance) const;
+  // Pushes an inner node's children with their bounds, the nearer last so that it is popped first.
+  template <class Bound>
+  void push_children(const Node& n, const Bound& bound_of, std::pair<std::int32_t, double>* stack,
+                     int& top) const {
+    const double bl = bound_of(nodes_[static_cast<std::size_t>(n.first)]);
+    const double br = bound_of(nodes_[static_cast<std::size_t>(n.first + 1)]);
+    const bool left_nearer = bl < br;
+    stack[top++] = left_nearer ? std::pair{n.first + 1, br} : std::pair{n.first, bl};
+    stack[top++] = left_nearer ? std::pair{n.first, bl} : std::pair{n.first + 1, br};
+  }
   double bound(const Node& n, const Vec3& x) const {
     const Vec3 d = (n.lo - x).cwiseMax(x - n.hi).cwiseMax(0.0);
     return d.norm() - n.radius;
