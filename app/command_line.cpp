@@ -53,7 +53,8 @@ const std::map<std::string, poreshell::Layout> kLayouts{{"auto", poreshell::Layo
 void add_stop_flags(CLI::App& app, poreshell::Options& options) {
   app.add_flag("--preview", options.preview,
                "the pattern alone, fast: the surface with its holes painted on (.ply with vertex colours, "
-               "--html), no shell; stopped as soon as the hole layout has settled");
+               "--html), no shell; with --layout cvt the full run's starting discs, else the equation "
+               "stopped as soon as the hole layout has settled");
   app.add_option(
          "--stop", options.stop,
          "when the run ends: paper (e_c < --tol; the default) or holes (the hole count and boundaries "
@@ -61,9 +62,10 @@ void add_stop_flags(CLI::App& app, poreshell::Options& options) {
       ->transform(one_of(kStopRules))
       ->default_str("auto");
   app.add_option("--layout", options.layout,
-                 "the hole layout: cvt (the equation's, made as even as a centroidal Voronoi tessellation by "
-                 "Lloyd's iteration and a restart from discs; the default with --hole-diameter) or paper "
-                 "(the equation's own; the default with the paper's parameters)")
+                 "the hole layout: cvt (the equation started from discs at a centroidal Voronoi "
+                 "tessellation of the free surface at its own hole density; the default with "
+                 "--hole-diameter, which it needs) or paper (the pattern forming from noise; the default "
+                 "with the paper's parameters)")
       ->transform(one_of(kLayouts))
       ->default_str("auto");
 }

@@ -58,7 +58,13 @@ void print_summary(const poreshell::Options& c, const poreshell::Report& r,
         "{} inner iterations, {} spots, {:.2f} s; carried here\n",
         cs->grid[0], cs->grid[1], cs->grid[2], r.model.epsilon / cs->h, cs->band_voxels, cs->steps,
         cs->inner_iterations, cs->spots, cs->seconds);
-  if (r.solver.stop_rule == "holes")
+  if (r.solver.layout == "cvt")
+    fmt::print("  layout   cvt: {} discs at a centroidal Voronoi tessellation of the free surface{}\n",
+               r.solver.layout_holes,
+               r.solver.steps == 0 ? " (the preview's holes; the equation not run)" : "");
+  if (r.solver.steps == 0) {
+    // A preview of the even layout: nothing was solved.
+  } else if (r.solver.stop_rule == "holes")
     fmt::print(
         "  solver   {} ({} inner): {} steps, hole layout {} (holes rule), final e_c {:.3e}, {} inner "
         "iterations{}\n",
@@ -92,7 +98,9 @@ void print_summary(const poreshell::Options& c, const poreshell::Report& r,
       r.band.voxels ? static_cast<double>(r.memory.peak_rss_after_solve) / static_cast<double>(r.band.voxels)
                     : 0.0,
       static_cast<double>(r.memory.peak_rss_total) / kMiB);
-  if (r.solid.mode == "shell")
+  if (r.preview)
+    fmt::print("  solid    none (a preview: the surface with its holes painted on)\n");
+  else if (r.solid.mode == "shell")
     fmt::print("  solid    shell, wall {:.4g} mm {}, meshed at {:.4g} mm ({} samples, {:.2f} s)\n",
                r.solid.wall_mm, r.solid.offset, r.solid.spacing_mm, r.solid.samples, r.solid.seconds_sample);
   else
@@ -129,7 +137,7 @@ void print_summary(const poreshell::Options& c, const poreshell::Report& r,
       fmt::print("; wall {:.4g} mm ({:.4g}-{:.4g}, {} probes)", m.wall.median, m.wall.min, m.wall.max,
                  m.wall.probes);
     fmt::print("\n");
-    if (i < outputs.size() && !outputs[i].holes.empty()) {
+    if (i < outputs.size() && !outputs[i].holes.empty() && !r.preview) {
       double circularity = 0.0, diameter = 0.0;
       for (const poreshell::Hole& h : outputs[i].holes) {
         circularity += h.circularity;
@@ -150,6 +158,11 @@ void print_summary(const poreshell::Options& c, const poreshell::Report& r,
                      ? std::string("no hole reaches in")
                      : fmt::format("{} HOLES REACH IN", m.zones.holes_in_keep_outs),
                  m.zones.keep_out_clearance);
+    if (r.preview) {
+      fmt::print("  output   {} (iso {:g}): the surface with {} holes painted on (preview)\n", m.path, m.iso,
+                 m.holes.count);
+      continue;
+    }
     fmt::print(
         "  output   {} (iso {:g}): {} triangles, {}, {}, smallest angle {:.1f} deg, Euler characteristic {}, "
         "pores from Euler {} vs {} spots on band\n",
@@ -161,7 +174,9 @@ void print_summary(const poreshell::Options& c, const poreshell::Report& r,
 }
 
 void print_warnings(const poreshell::Options& c, const poreshell::Report& r) {
-  if (!r.solver.reached_tolerance && r.solver.stop_rule == "holes")
+  if (r.solver.steps == 0) {
+    // Nothing solved (a preview of the even layout): no stop to warn about.
+  } else if (!r.solver.reached_tolerance && r.solver.stop_rule == "holes")
     fmt::print(
         stderr,
         "poreshell: warning: stopped at --max-steps {} before the hole layout settled; raise --max-steps\n",

@@ -135,7 +135,7 @@ struct Report {
     bool reached_tolerance = false, inner_converged = true;  // reached_tolerance: the stop rule was met
     std::string stop_rule;                                   // paper (e_c < tolerance) or holes
     std::string layout;                                      // paper or cvt (Options::layout)
-    std::int64_t layout_steps = 0;  // cvt: the steps after the restart from discs (in `steps`)
+    std::int64_t layout_holes = 0;                           // cvt: the discs the run started from
     std::optional<CoarseStart> coarse_start;
     double energy_first = 0.0, energy_last = 0.0;  // NaN when not evaluated
     std::vector<std::pair<int, double>> energy_trace;

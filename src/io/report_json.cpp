@@ -237,7 +237,7 @@ json to_json(const Report& r, std::span<const Output> outputs) {
         {"reached_tolerance", r.solver.reached_tolerance},
         {"stop_rule", r.solver.stop_rule},
         {"layout", r.solver.layout},
-        {"layout_steps", r.solver.layout_steps},
+        {"layout_holes", r.solver.layout_holes},
         {"inner_converged", r.solver.inner_converged},
         {"inner_iterations", r.solver.inner_iterations},
         {"repeated_steps", r.solver.repeated_steps},

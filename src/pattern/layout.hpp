@@ -3,6 +3,7 @@
 // centres over area samples of the surface, the discs the equation restarts from, and how even a
 // layout is (its Voronoi cells' areas on the surface).
 
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -19,7 +20,9 @@ struct AreaSamples {
   std::vector<Vec3> points;
   std::vector<double> area;
 };
-AreaSamples area_samples(const NarrowBand& band, std::span<const double> zone_weight = {});
+// Samples closer than `margin` to a zone's give none either (the equation keeps its spots off zones).
+AreaSamples area_samples(const NarrowBand& band, std::span<const double> zone_weight = {},
+                         double margin = 0.0);
 
 // Each sample's nearest centre (ties: the lower index). Parallel, deterministic.
 std::vector<std::int32_t> nearest_centres(const AreaSamples& samples, std::span<const Vec3> centres);
@@ -35,12 +38,24 @@ double cell_area_cv(const AreaSamples& samples, std::span<const Vec3> centres);
 std::vector<Vec3> lloyd_centres(std::vector<Vec3> centres, const AreaSamples& samples, const Surface& surface,
                                 int iterations);
 
+// `count` well-spread starting centres among the samples: the seed picks the first (area-weighted), each
+// next one is the sample farthest from those chosen. Deterministic for a seed.
+std::vector<Vec3> farthest_point_centres(const AreaSamples& samples, std::size_t count, std::uint64_t seed);
+
+// The hole centres of an even layout at the equation's own density for `spacing` (grid units): the free
+// surface's area gives the count, the farthest-point start spreads them, Lloyd's iteration makes them a
+// centroidal Voronoi tessellation. Deterministic for a seed, on any thread count.
+std::vector<Vec3> even_layout(const NarrowBand& band, const Surface& surface,
+                              std::span<const double> zone_weight, double spacing, std::uint64_t seed);
+
 // Discs of `radius` at `centres`, each voxel judged by its closest point: the equation's interface
 // profile tanh(x / (sqrt 2 epsilon)) across the disc's edge (+1 inside: a pore); solid (-1) where the
 // zone weight (empty: none) is 1, blended as the run's start is; then the free part shifted so that the
-// band's mean is `mean`. The equation conserves the mean, and its nonlocal term has a solution only
-// for the mean it started from: give the mean of the field this one replaces.
+// band's mean is `mean`, if given. The equation conserves the mean, and its nonlocal term has a
+// solution only for the mean it started from: give the mean of the field this one replaces (none for
+// discs that are shown, not solved: the shift moves their edges).
 std::vector<double> disc_field(const NarrowBand& band, std::span<const Vec3> centres, double radius,
-                               double epsilon, std::span<const double> zone_weight, double mean);
+                               double epsilon, std::span<const double> zone_weight,
+                               std::optional<double> mean);
 
 }  // namespace poreshell

@@ -187,7 +187,7 @@ PipelineResult run_pipeline(const Input& input, const Options& given, RunMonitor
   result.peak_rss_after_solve = peak_rss_bytes();
   result.stop_rule = solved.stop_rule;
   result.layout = solved.layout;
-  result.layout_steps = solved.layout_steps;
+  result.layout_holes = solved.layout_holes;
   std::vector<double> phi = std::move(solved.phi);
   result.spots = spot_statistics(band, phi, 0.0);
   if (options.preview) {

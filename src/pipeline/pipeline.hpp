@@ -74,7 +74,7 @@ struct PipelineResult {
   std::string inner_iteration;
   StopRule stop_rule = StopRule::paper;     // the rule the run stopped by
   Layout layout = Layout::paper;            // the layout made (never automatic)
-  int layout_steps = 0;                     // cvt: steps after the restart from discs
+  std::int64_t layout_holes = 0;            // cvt: the discs the run started from
   RunResult run;                            // on this grid
   std::optional<CoarseLevel> coarse_start;  // the run on the pattern's grid before it, if any
   SpotStats spots;                          // at phi > 0

@@ -87,7 +87,7 @@ Report make_report(const PipelineResult& r, const Options& options) {
   s.reached_tolerance = r.run.reached_tolerance;
   s.stop_rule = r.stop_rule == StopRule::holes ? "holes" : "paper";
   s.layout = r.layout == Layout::cvt ? "cvt" : "paper";
-  s.layout_steps = r.layout_steps;
+  s.layout_holes = r.layout_holes;
   report.preview = options.preview;
   s.inner_converged = r.run.inner_converged;
   if (const auto& c = r.coarse_start)

@@ -89,6 +89,9 @@ void validate(const Options& c) {
   const bool holes = c.hole_diameter > 0.0 || c.spacing > 0.0 || c.porosity > 0.0;
   require(!c.grade || holes, "grade",
           "`grade` sets hole diameters in mm: add `hole_diameter` MM (and `spacing` MM or `porosity` F)");
+  require(c.layout != Layout::cvt || holes, "layout",
+          "`layout` cvt places holes at the spacing asked in mm: add `hole_diameter` MM (and `spacing` MM "
+          "or `porosity` F), or use `layout` paper");
   require(c.min_part_fraction >= 0.0 && c.min_part_fraction < 1.0, "min_part_fraction",
           "`min_part_fraction` must be a share of the largest part's volume in [0, 1)");
   require(c.max_triangles == 0 || c.max_triangles >= 4, "max_triangles",

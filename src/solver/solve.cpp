@@ -42,6 +42,25 @@ Layout resolve_layout(const Options& c, bool holes_in_mm) {
   return holes_in_mm ? Layout::cvt : Layout::paper;
 }
 
+namespace {
+
+// The even layout's start: discs at a centroidal Voronoi tessellation of the surface's free area
+// (pattern/layout.hpp), sized so that the pore level's contour is the asked diameter; for a run, on the
+// mean the equation's start had (the nonlocal term has a solution only for the mean it starts from).
+std::vector<double> even_layout_start(const PatternPlan& plan, double mm_per_grid, const NarrowBand& band,
+                                      const Surface& surface, const SolidZones& zones, std::uint64_t seed,
+                                      std::optional<double> mean, SolveResult& result) {
+  const double epsilon = result.model.epsilon;
+  const std::vector<double> weight = zones ? zones(band, epsilon) : std::vector<double>{};
+  const std::vector<Vec3> centres = even_layout(band, surface, weight, plan.spacing / mm_per_grid, seed);
+  result.layout_holes = static_cast<std::int64_t>(centres.size());
+  // tanh((R - r) / (sqrt 2 eps)) = level at r = D / 2.
+  const double radius = 0.5 * plan.diameter / mm_per_grid + std::sqrt(2.0) * epsilon * std::atanh(plan.level);
+  return disc_field(band, centres, radius, epsilon, weight, mean);
+}
+
+}  // namespace
+
 HoleStopOptions hole_stop_options(const Options& c, double min_spread) {
   HoleStopOptions o;
   o.level = c.iso.empty() ? 0.0 : c.iso.front();
@@ -61,42 +80,6 @@ void choose_model(const Options& c, const std::optional<PatternPlan>& plan, doub
   model = ModelParameters{cal.kappa / (eps * eps), eps, plan->phi_bar};
   dt = cal.dt_per_epsilon_squared * eps * eps;
 }
-
-namespace {
-
-// Lloyd's iterations of the hole centres, over-relaxed (layout.hpp): on the sphere of radius 50 mm with
-// 6 mm holes at 10 mm the cell-area CV of the centres settles within 30 (0.0593 at 30, 100 and 300
-// iterations for seed 2; docs/solver.md "Layout").
-constexpr int kLloydIterations = 30;
-
-// The equation's layout made even: its holes' centres moved by Lloyd's iteration over the surface's
-// free area, discs of the holes' size put at them, and the equation run again from there (it keeps the
-// centres, and gives the pores their own shape and size).
-void relax_to_even_layout(const Options& c, const NarrowBand& band, const Surface& surface,
-                          const SolidZones& zones, TimeStepper& solver, const RunOptions& run_options,
-                          std::vector<double>& phi, SolveResult& result) {
-  const HoleStats holes = hole_statistics(band, phi, c.iso.front());
-  const HoleStats discs = hole_statistics(band, phi, 0.0);  // the phases' own boundary
-  if (holes.holes.size() < 2 || discs.holes.empty()) return;
-  std::vector<Vec3> centres;
-  for (const BandHole& h : holes.holes) centres.push_back(h.centre);
-  const std::vector<double> weight = zones ? zones(band, result.model.epsilon) : std::vector<double>{};
-  centres = lloyd_centres(std::move(centres), area_samples(band, weight), surface, kLloydIterations);
-  result.layout_holes = static_cast<int>(centres.size());
-  const double mean = std::accumulate(phi.begin(), phi.end(), 0.0) / static_cast<double>(phi.size());
-  phi = disc_field(band, centres, 0.5 * discs.diameter_mean, result.model.epsilon, weight, mean);
-  const RunResult first = result.run;
-  solver.restart();
-  result.run = run_to_steady_state(solver, phi, nullptr, run_options);
-  result.layout_steps = result.run.steps;
-
-  result.run.steps += first.steps;
-  result.run.inner_iterations += first.inner_iterations;
-  result.run.repeated_steps += first.repeated_steps;
-  result.run.energy_first = first.energy_first;
-}
-
-}  // namespace
 
 SolveResult solve_pattern(const Options& c, const std::optional<PatternPlan>& plan,
                           const PlacedSurface& placed, const Grid& grid, const NarrowBand& band,
@@ -155,12 +138,27 @@ SolveResult solve_pattern(const Options& c, const std::optional<PatternPlan>& pl
   };
   run_options.on_step = report_step;
   const bool fast = c.solver == SolverKind::fast;
-  const std::optional<Grid> coarse_grid =
-      fast && c.coarse_start ? pattern_grid(*placed.surface, grid.h(), result.model.epsilon) : std::nullopt;
+  result.layout = resolve_layout(c, plan.has_value());
+  const bool even = plan && result.layout == Layout::cvt;
+  // The even layout starts from discs on this grid: no pattern to form on a coarser one.
+  const std::optional<Grid> coarse_grid = fast && c.coarse_start && !even
+                                              ? pattern_grid(*placed.surface, grid.h(), result.model.epsilon)
+                                              : std::nullopt;
   // Shares of the stage, from runs of the bunny: with a coarse start its band, set-up, run and carry take
   // about half, the fine set-up a few percent, the fine run the rest.
   const double fine_setup = coarse_grid ? 0.5 : 0.0, fine_steps = fine_setup + 0.05;
   LevelStart fine_start = level_start(band, !coarse_grid);
+  if (even) {
+    const double mean = std::accumulate(fine_start.phi.begin(), fine_start.phi.end(), 0.0) /
+                        static_cast<double>(fine_start.phi.size());
+    fine_start.phi = even_layout_start(*plan, placed.mm_per_grid(), band, *placed.surface, zones, c.seed,
+                                       c.preview ? std::nullopt : std::optional<double>(mean), result);
+    // A preview's holes are these discs: the equation would only round them (issue 18: a second).
+    if (c.preview) {
+      result.phi = std::move(fine_start.phi);
+      return result;
+    }
+  }
   monitor.check();
   if (coarse_grid) {
     CoarseStartOptions coarse{
@@ -215,11 +213,6 @@ SolveResult solve_pattern(const Options& c, const std::optional<PatternPlan>& pl
   if (c.energy_every > 0) energy.emplace(band, result.model);
   if (holes_rule) run_options.stop = make_stop(band);
   result.run = run_to_steady_state(*solver, phi, energy ? &*energy : nullptr, run_options);
-  result.layout = resolve_layout(c, plan.has_value());
-  if (result.layout == Layout::cvt) {
-    if (holes_rule) run_options.stop = make_stop(band);  // a fresh window
-    relax_to_even_layout(c, band, *placed.surface, zones, *solver, run_options, phi, result);
-  }
   // The solver's hierarchy and the energy's factorisation are done with: free them before meshing,
   // the stage with the largest footprint.
   solver.reset();

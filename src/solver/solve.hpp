@@ -30,8 +30,7 @@ struct SolveResult {
   std::vector<double> phi;                  // on the band, at the end
   StopRule stop_rule = StopRule::paper;     // the rule that ended the run (never automatic)
   Layout layout = Layout::paper;            // never automatic
-  int layout_steps = 0;                     // cvt: the steps after the restart from discs (in run.steps)
-  int layout_holes = 0;                     // cvt: the centres Lloyd's iteration gave
+  std::int64_t layout_holes = 0;            // cvt: the discs the run started from
 };
 
 // The rule a run stops by: Options::stop, with automatic resolved (holes for a preview, else the

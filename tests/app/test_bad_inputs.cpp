@@ -358,6 +358,8 @@ std::vector<Row> rows() {
        "'sideways' is not one of centered, inside, outside", "see poreshell --help", kOptionRun},
       {"--stop unknown", "", "", "--stop sometimes", 2, "'sometimes' is not one of auto, holes, paper",
        "see poreshell --help", kOptionRun},
+      {"--layout cvt without holes in mm", "", "", "--layout cvt", 1,
+       "--layout cvt places holes at the spacing asked in mm", "add --hole-diameter MM", kOptionRun},
       {"--alpha with --hole-diameter", "", "", "--hole-diameter 5 --alpha 2200", 2,
        "--alpha excludes --hole-diameter", "see poreshell --help", kOptionRun},
       {"misspelt option", "", "", "--resolutoin 131", 2, "unknown argument '--resolutoin'",

@@ -131,7 +131,8 @@ TEST(HoleMapPipeline, CvtLayoutIsMoreEvenThanTheEquationsOwnWithTheSameHoles) {
   EXPECT_LT(b.spacing_cv, 0.050);
   EXPECT_LT(b.diameter_cv, a.diameter_cv + 0.005);
   EXPECT_LT(relative_error(b.diameter_mean, 6.0), 0.05) << b.diameter_mean;
-  EXPECT_GT(cvt.layout_steps, 0);
+  // The equation keeps the discs it started from.
+  EXPECT_EQ(static_cast<std::int64_t>(b.holes.size()), cvt.layout_holes);
   std::printf("cell-area CV %.4f -> %.4f, NN CV %.4f -> %.4f, %zu -> %zu holes\n", a.cell_area_cv,
               b.cell_area_cv, a.spacing_cv, b.spacing_cv, a.holes.size(), b.holes.size());
 }
@@ -160,8 +161,9 @@ TEST(HoleMapPipeline, OpenCylinderWithRimGivesTheAskedHolesAndWallReducedToATria
   }
 }
 
-// Voxels half the map's size (a smoother surface): the pattern is formed on the map's grid and carried
-// (the coarse start), with the rim's solid zone on both grids; the holes are the asked ones.
+// Voxels half the map's size (a smoother surface): the equation's own layout is formed on the map's grid
+// and carried (the coarse start), with the rim's solid zone on both grids; the holes are the asked ones.
+// (The even layout starts from discs on the fine grid: no coarse start.)
 TEST(HoleMapPipeline, FinerVoxelsKeepTheHolesAndTheRimThroughTheCoarseStart) {
   const TempDir dir;
   const Input cylinder = load_mesh(write_open_cylinder(dir.path(), 25.0, 60.0));
@@ -171,6 +173,7 @@ TEST(HoleMapPipeline, FinerVoxelsKeepTheHolesAndTheRimThroughTheCoarseStart) {
   c.voxel_size = 0.5 * plan_pattern({5.0, 8.0, 0.0}).voxel_size;
   c.wall = 1.5;
   c.rim = 2.0;
+  c.layout = Layout::paper;
   const PipelineResult r = run_pipeline(cylinder, c, unmonitored());
   ASSERT_TRUE(r.coarse_start);
   EXPECT_NEAR(r.coarse_start->h, 2.0 * r.h, 0.02 * r.h);
