@@ -48,10 +48,9 @@ namespace {
 // (pattern/layout.hpp), sized so that the pore level's contour is the asked diameter; for a run, on the
 // mean the equation's start had (the nonlocal term has a solution only for the mean it starts from).
 std::vector<double> even_layout_start(const PatternPlan& plan, double mm_per_grid, const NarrowBand& band,
-                                      const Surface& surface, const SolidZones& zones, std::uint64_t seed,
-                                      std::optional<double> mean, SolveResult& result) {
+                                      const Surface& surface, std::span<const double> weight,
+                                      std::uint64_t seed, std::optional<double> mean, SolveResult& result) {
   const double epsilon = result.model.epsilon;
-  const std::vector<double> weight = zones ? zones(band, epsilon) : std::vector<double>{};
   const std::vector<Vec3> centres = even_layout(band, surface, weight, plan.spacing / mm_per_grid, seed);
   result.layout_holes = static_cast<std::int64_t>(centres.size());
   // tanh((R - r) / (sqrt 2 eps)) = level at r = D / 2.
@@ -89,9 +88,11 @@ SolveResult solve_pattern(const Options& c, const std::optional<PatternPlan>& pl
   // The initial state on a band: noise about phi_bar, solid zones (rims along open boundaries, keep-out
   // spheres and masks) solid and held there by a local mean concentration. Without noise: the mean
   // field alone, for a band that starts from a carried pattern.
-  const auto level_start = [&](const NarrowBand& b, bool noise) {
+  const auto zone_weight = [&](const NarrowBand& b) {
+    return zones ? zones(b, result.model.epsilon) : std::vector<double>{};
+  };
+  const auto level_start = [&](const NarrowBand& b, std::span<const double> weight, bool noise) {
     LevelStart s;
-    const std::vector<double> weight = zones ? zones(b, result.model.epsilon) : std::vector<double>{};
     if (!weight.empty()) s.mean_field = mean_concentration_field(weight, result.model.phi_bar);
     if (!noise) return s;
     s.phi = random_initial_condition(b, result.model.phi_bar, c.initial_amplitude, c.seed);
@@ -147,12 +148,16 @@ SolveResult solve_pattern(const Options& c, const std::optional<PatternPlan>& pl
   // Shares of the stage, from runs of the bunny: with a coarse start its band, set-up, run and carry take
   // about half, the fine set-up a few percent, the fine run the rest.
   const double fine_setup = coarse_grid ? 0.5 : 0.0, fine_steps = fine_setup + 0.05;
-  LevelStart fine_start = level_start(band, !coarse_grid);
+  const std::vector<double> fine_weight = zone_weight(band);
+  // A preview of the even layout solves nothing: no noise to start from.
+  LevelStart fine_start = level_start(band, fine_weight, !coarse_grid && !(even && c.preview));
   if (even) {
-    const double mean = std::accumulate(fine_start.phi.begin(), fine_start.phi.end(), 0.0) /
-                        static_cast<double>(fine_start.phi.size());
-    fine_start.phi = even_layout_start(*plan, placed.mm_per_grid(), band, *placed.surface, zones, c.seed,
-                                       c.preview ? std::nullopt : std::optional<double>(mean), result);
+    std::optional<double> mean;
+    if (!c.preview)
+      mean = std::accumulate(fine_start.phi.begin(), fine_start.phi.end(), 0.0) /
+             static_cast<double>(fine_start.phi.size());
+    fine_start.phi = even_layout_start(*plan, placed.mm_per_grid(), band, *placed.surface, fine_weight,
+                                       c.seed, mean, result);
     // A preview's holes are these discs: the equation would only round them (issue 18: a second).
     if (c.preview) {
       result.phi = std::move(fine_start.phi);
@@ -161,8 +166,12 @@ SolveResult solve_pattern(const Options& c, const std::optional<PatternPlan>& pl
   }
   monitor.check();
   if (coarse_grid) {
-    CoarseStartOptions coarse{
-        [&](const NarrowBand& b) { return level_start(b, true); }, run_options, {}, {}, {}, {}};
+    CoarseStartOptions coarse{[&](const NarrowBand& b) { return level_start(b, zone_weight(b), true); },
+                              run_options,
+                              {},
+                              {},
+                              {},
+                              {}};
     coarse.band_progress = StageProgress(monitor, 0.0, 0.05);
     coarse.fast.progress = StageProgress(monitor, 0.05, 0.08);
     coarse.fast.cycles = StageProgress(monitor, 0.0, 0.0);
