@@ -32,6 +32,8 @@
 #include <functional>
 #include <iterator>
 #include <limits>
+#include <optional>
+#include <span>
 #include <stdexcept>
 
 #include "core/error.hpp"
@@ -138,10 +140,16 @@ struct FieldLookup {
   std::vector<std::int64_t> keys;
   std::vector<double> values;
   double background = 1.0;
+  std::span<const std::span<const double>> parts;  // SparseField's, in key order (empty: none)
 
   double at(std::int64_t key) const {
     const auto it = std::lower_bound(keys.begin(), keys.end(), key);
     return it != keys.end() && *it == key ? values[it - keys.begin()] : background;
+  }
+  std::optional<std::size_t> position(std::int64_t key) const {
+    const auto it = std::lower_bound(keys.begin(), keys.end(), key);
+    if (it == keys.end() || *it != key) return std::nullopt;
+    return static_cast<std::size_t>(it - keys.begin());
   }
 };
 
@@ -225,6 +233,33 @@ double crossing(double va, double vb, double iso) {
   return std::clamp((iso - va) / (vb - va), kSnap, 1.0 - kSnap);
 }
 
+// The same for the max of parts, each linear along the edge, at points i (lower end) and j: the inside,
+// where every part is below iso, is the overlap of the parts' insides, an interval at the inside end;
+// the crossing is its other end.
+double crossing_of_max(std::span<const std::span<const double>> parts, std::size_t i, std::size_t j,
+                       double iso) {
+  const auto cross = [&](double v0, double v1) { return (iso - v0) / (v1 - v0); };
+  bool lower_inside = true;
+  for (const auto& part : parts) lower_inside = lower_inside && part[i] < iso;
+  double t = lower_inside ? 1.0 : 0.0;
+  for (const auto& part : parts) {
+    const double v0 = part[i], v1 = part[j];
+    if (lower_inside)  // the part that leaves first
+      t = std::min(t, v1 < iso ? 1.0 : cross(v0, v1));
+    else  // the part that enters last
+      t = std::max(t, v0 < iso ? 0.0 : cross(v0, v1));
+  }
+  return std::clamp(t, kSnap, 1.0 - kSnap);
+}
+
+double vertex_crossing(const FieldLookup& lookup, std::int64_t lower, std::int64_t upper, double iso) {
+  if (!lookup.parts.empty()) {
+    const auto i = lookup.position(lower), j = lookup.position(upper);
+    if (i && j) return crossing_of_max(lookup.parts, *i, *j, iso);
+  }
+  return crossing(lookup.at(lower), lookup.at(upper), iso);
+}
+
 Vec3 direction(int bits) {
   return Vec3(bits & 1, (bits >> 1) & 1, (bits >> 2) & 1);
 }
@@ -276,7 +311,15 @@ FieldLookup sorted_field(const SparseField& field, const PaddedGrid& grid) {
   lookup.values.resize(n);
   // Points given in key order (the shell's samples) are taken as they are: no sorted copy.
   const auto by_key = [&](const Coord& a, const Coord& b) { return grid.key(a) < grid.key(b); };
-  if (std::is_sorted(field.points.begin(), field.points.end(), by_key)) {
+  const bool sorted = std::is_sorted(field.points.begin(), field.points.end(), by_key);
+  if (!field.parts.empty()) {
+    const bool sized =
+        std::all_of(field.parts.begin(), field.parts.end(), [&](auto p) { return p.size() == n; });
+    if (!sorted || !sized)
+      throw std::invalid_argument("isosurface: parts need points in key order, one value each");
+    lookup.parts = field.parts;
+  }
+  if (sorted) {
     tbb::parallel_for(std::size_t{0}, n, [&](std::size_t p) {
       lookup.keys[p] = grid.key(field.points[p]);
       lookup.values[p] = field.values[p];
@@ -453,7 +496,7 @@ TriangleMesh extract_isosurface(const SparseField& field, double iso, const Stag
     const std::int64_t lower = names[i] / 8;
     const int bits = static_cast<int>(names[i] % 8);
     const std::int64_t upper = lower + grid.offset(bits);
-    const double t = crossing(lookup.at(lower), lookup.at(upper), iso);
+    const double t = vertex_crossing(lookup, lower, upper, iso);
     mesh.vertices[i] = g.origin() + g.h() * (grid.index(lower) + t * direction(bits));
   });
 

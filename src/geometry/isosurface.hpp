@@ -16,6 +16,12 @@ struct SparseField {
   std::span<const Coord> points;
   std::span<const double> values;  // one per point
   double background = 1.0;
+  // Optional, for a field that is the max of parts (an intersection of solids): values = the max of
+  // the parts per point, points in ascending (k, j, i) order. A vertex then lies where the last of the
+  // parts crosses along its edge (exact for parts linear along it), not where the interpolated max
+  // does: the max has a crease, which interpolation rounds into a chamfer a cell wide (a pore's wall
+  // flared by up to 0.1 mm where it met the shell's faces: circularity 0.956 -> 0.991 on a sphere).
+  std::span<const std::span<const double>> parts = {};
 };
 
 // Requires background > iso (the solid is bounded). The result is closed and 2-manifold.

@@ -23,9 +23,12 @@ constexpr double kReachCells = 1.7325;
 // wall's faces fall midway between grid planes where the surface touches its box (see sample_shell).
 constexpr double kMarginCells = 4.5;
 
+// Beyond the trim line's reach: no trim (a part of the wall that is always inside).
+constexpr double kNoTrim = -1e30;
+
 struct Sample {
   Coord point;
-  double wall, pattern;
+  double slab, trim, pattern;
   bool incomplete;
 };
 
@@ -137,11 +140,10 @@ ShellSamples sample_shell(const Surface& surface, const NarrowBand& band, std::s
     if (signed_needed && options.side) d = std::copysign(std::abs(d), options.side(x, p));
     bool complete = true;
     const double pattern = interpolate_band(band, phi, p, &complete);
-    double wall = std::abs(d - center_offset) - 0.5 * t;
-    if (trim) {
-      if (const std::optional<double> beyond = trim->beyond(x)) wall = std::max(wall, *beyond);
-    }
-    samples.push_back({c, wall, pattern, !complete});
+    const double slab = std::abs(d - center_offset) - 0.5 * t;
+    double beyond_trim = kNoTrim;
+    if (trim) beyond_trim = trim->beyond(x).value_or(kNoTrim);
+    samples.push_back({c, slab, beyond_trim, pattern, !complete});
     return 0.0;  // within reach
   };
 
@@ -171,6 +173,10 @@ ShellSamples sample_shell(const Surface& surface, const NarrowBand& band, std::s
   out.points.resize(total);
   out.wall.resize(total);
   out.pattern.resize(total);
+  if (trim) {
+    out.slab.resize(total);
+    out.trim.resize(total);
+  }
   std::vector<std::int64_t> incomplete(static_cast<std::size_t>(tops[2]), 0);
   monitored_for(static_cast<std::size_t>(tops[2]), options.progress.part(0.9, 1.0), [&](std::size_t l) {
     const std::size_t blocks_in_layer = std::size_t(tops[0]) * std::size_t(tops[1]);
@@ -185,8 +191,12 @@ ShellSamples sample_shell(const Surface& surface, const NarrowBand& band, std::s
           for (std::size_t& c = cursor[in_layer];
                c < block.size() && block[c].point.k == k && block[c].point.j == j; ++c, ++n) {
             out.points[n] = block[c].point;
-            out.wall[n] = block[c].wall;
+            out.wall[n] = std::max(block[c].slab, block[c].trim);
             out.pattern[n] = block[c].pattern;
+            if (trim) {
+              out.slab[n] = block[c].slab;
+              out.trim[n] = block[c].trim;
+            }
             incomplete[l] += block[c].incomplete;
           }
         }
@@ -197,12 +207,18 @@ ShellSamples sample_shell(const Surface& surface, const NarrowBand& band, std::s
 }
 
 TriangleMesh shell_mesh(const ShellSamples& samples, double iso, const StageProgress& progress) {
-  std::vector<double> values(samples.points.size());
+  std::vector<double> pores(samples.points.size()), values(samples.points.size());
   tbb::parallel_for(std::size_t{0}, values.size(), [&](std::size_t n) {
-    values[n] = std::max(samples.wall[n], samples.pattern_length * (samples.pattern[n] - iso));
+    pores[n] = samples.pattern_length * (samples.pattern[n] - iso);
+    values[n] = std::max(samples.wall[n], pores[n]);
   });
   progress.check();
-  const SparseField field{&samples.grid, samples.points, values, samples.grid.h()};
+  // The pores' walls meet the wall's faces, and those the end faces at the trim line, at sharp edges:
+  // meshed from the parts (isosurface.hpp).
+  std::vector<std::span<const double>> parts{samples.wall, pores};
+  if (!samples.trim.empty()) parts = {samples.slab, samples.trim, pores};
+  SparseField field{&samples.grid, samples.points, values, samples.grid.h()};
+  field.parts = parts;
   return extract_isosurface(field, 0.0, progress);
 }
 

@@ -86,6 +86,18 @@ TEST(HoleTablePipeline, OneRecordPerPoreOfASphere) {
   EXPECT_EQ(static_cast<std::int64_t>(holes.size()), out.pores_from_euler);
   EXPECT_EQ(out.hole_table_dropped, out.spots_at_iso - out.pores_from_euler);
   expect_holes_as_asked(holes, out.hole_table_dropped, 6.0, 10.0, 20.0);
+  // Issue 19, item 5, round pores: mean 4 pi A / P^2 of the mid-wall loops at least 0.97, none under
+  // 0.90. Measured here: mean 0.990, least 0.983; on r = 50 (297 holes) 0.991 and 0.977. Before the
+  // shell was meshed from its two parts (isosurface.hpp), 0.956 and 0.930 on r = 50: the chamfer at the
+  // pores' rims made each loop's outline zigzag.
+  double circularity = 0.0, least = 1.0;
+  for (const Hole& h : holes) {
+    circularity += h.circularity / static_cast<double>(holes.size());
+    least = std::min(least, h.circularity);
+  }
+  std::printf("circularity: mean %.3f, least %.3f\n", circularity, least);
+  EXPECT_GE(circularity, 0.97);
+  EXPECT_GE(least, 0.90);
   const nlohmann::json report = nlohmann::json::parse(report_json(r.report, r.outputs));
   EXPECT_EQ(report["mesh"]["hole_table"].size(), holes.size());
   EXPECT_EQ(report["mesh"]["outputs"][0]["hole_table"][0]["centre"].size(), 3u);
