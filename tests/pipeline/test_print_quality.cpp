@@ -18,8 +18,8 @@
 //
 // The hexagonal estimate: n holes at nearest-neighbour spacing s cover n sqrt(3)/2 s^2 in a perfect
 // lattice. The hole map's spacing is the equation's mean nearest-neighbour distance (docs/printing.md,
-// "the hole map"), and the equation's layout is no perfect lattice (5- and 7-fold defects make some
-// neighbours nearer than the mean cell would), so a bare sphere has fewer holes than the lattice of
+// "the hole map"), and the equation's layout is no perfect lattice: an irregular layout with the same
+// mean nearest-neighbour distance holds fewer holes, so a bare sphere has fewer than the lattice of
 // that spacing: 106 on r 30 mm against 130.6, a density factor of 0.812, the same with the paper's
 // layout and with cvt. Each test measures that factor on the bare sphere with the same options (2 s),
 // so that a change of layout moves the reference with the count, and asks for the count on the free
@@ -89,7 +89,7 @@ void expect_one_part(const Result& r, const char* what) {
 
 // Round and whole: no slit, notch or fragment. An ellipse of axis ratio 0.6 has circularity 0.91, and a
 // round hole measures about 0.955 here (the mid-wall polygon's facets; bare sphere mean 0.955), so 0.87
-// is an axis ratio of about 0.6 (issue 19's bound); a D cut by an edge measures 0.75.
+// is an axis ratio of about 0.6 (issue 19's bound); a half disc measures 0.75.
 void expect_round_whole_holes(const std::vector<Hole>& holes, const char* what) {
   double least_diameter = 1e300, least_circularity = 1e300;
   for (const Hole& h : holes) {
@@ -155,8 +155,9 @@ Mesh sphere_with_stalk(const Stalk& g) {
 }
 
 // A cube [-a, a]^3 with edges and corners rounded with radius r: a point p of the cube maps to
-// c + r (p - c) / |p - c|, c its nearest point of [-(a - r), a - r]^3. `facets` per quarter circle of an
-// edge; the flat faces in cells of about `cell` mm. Vertices shared between faces are welded.
+// c + r (p - c) / |p - c|, c its nearest point of [-(a - r), a - r]^3. Each face's side of an edge's
+// round has `facets` facets up to its 45 degree line (2 x facets per quarter circle); the flat faces are
+// in cells of about `cell` mm. Vertices shared between faces are welded.
 Mesh rounded_cube(double a, double r, int facets, double cell) {
   const double b = a - r;
   // Coordinates along a face from -a to a; in (b, a] the coordinate b + r tan(angle) puts the arc's
