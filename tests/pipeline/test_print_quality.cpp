@@ -2,17 +2,17 @@
 // 6 mm holes at 10 mm in a 2 mm wall (8 mm at 12 mm on the sleeve), default options.
 //
 // - A sphere (r 30 mm) with a thin stalk (r 3 mm, 30 mm long, capped) comes out as one part with the
-//   whole stalk, no hole on the stalk nor reaching it (the nearest centre 8.8 mm from its foot), every
-//   hole round and whole, and the sphere's holes as dense as on a bare sphere (105 against 104.9).
-//   With thin_feature_ratio = 0 the stalk carries 4 holes; with both zones off 7, two of them at its
-//   foot, and the worst hole measures 4.21 mm and circularity 0.82. crease_angle = 0 alone passes (the
+//   whole stalk, no hole on the stalk nor reaching it (the nearest centre 9.4 mm from its foot), every
+//   hole round and whole, and the sphere's holes as dense as on a bare sphere (105 against 105.9).
+//   With thin_feature_ratio = 0 the stalk carries 4 holes; with both zones off 6, one 2.1 mm above its
+//   foot, and the worst hole measures 4.10 mm and circularity 0.81. crease_angle = 0 alone passes (the
 //   thin zone covers the foot too).
 // - A cube (side 60 mm, edges and corners rounded with r 2 mm in two facets per quarter circle, so that
 //   each edge has a 45 degree crease) has no hole within half a hole of an edge line, and the holes fill
 //   what the zones leave at the bare sphere's density. With the defaults the nearest hole centre is
-//   11.8 mm from an edge line (108 holes), with the crease zone alone 9.0 mm (141 holes); with both
-//   zones off 1.0 mm, 33 of the 209 holes within half a hole of an edge (the hole table still finds
-//   them round: least circularity 0.94 on a 2 mm round, so only their place gives them away).
+//   11.8 mm from an edge line (112 holes), with the crease zone alone 9.1 mm (138 holes); with both
+//   zones off 0.9 mm, 32 of the 197 holes within half a hole of an edge (the hole table still finds
+//   them round: least circularity 0.92 on a 2 mm round, so only their place gives them away).
 // - An open sleeve (r 35 mm, 100 mm long, 8 mm holes at 12 mm, 3 mm rim) comes out as one part (it has
 //   nothing to remove: no fragment, no void, with or without the clean-up).
 //
@@ -20,10 +20,10 @@
 // lattice. The hole map's spacing is the equation's mean nearest-neighbour distance (docs/printing.md,
 // "the hole map"), and the equation's layout is no perfect lattice: an irregular layout with the same
 // mean nearest-neighbour distance holds fewer holes, so a bare sphere has fewer than the lattice of
-// that spacing: 106 on r 30 mm against 130.6, a density factor of 0.812, the same with the paper's
-// layout and with cvt. Each test measures that factor on the bare sphere with the same options (2 s),
-// so that a change of layout moves the reference with the count, and asks for the count on the free
-// surface within 10% of factor x the lattice estimate.
+// that spacing: 107 on r 30 mm against 130.6, a density factor of 0.819 (before the even layout
+// started from discs, 106 and 0.812 with both layouts). Each test measures that factor on the bare sphere
+// with the same options (2 s), so that a change of layout moves the reference with the count, and asks for
+// the count on the free surface within 10% of factor x the lattice estimate.
 
 #include <gtest/gtest.h>
 
