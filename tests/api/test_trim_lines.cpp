@@ -11,33 +11,15 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <numbers>
 
 #include "poreshell/poreshell.hpp"
+#include "test_meshes.hpp"
 
 using namespace poreshell;
 
 namespace {
 
 constexpr double kRadius = 15.0, kLength = 40.0, kWall = 1.5;
-
-// An open cylinder along z from 0 to kLength, normals outward, 96 segments around and 40 rings.
-Mesh open_sleeve() {
-  const int segments = 96, rings = 40;
-  Mesh m;
-  for (int r = 0; r <= rings; ++r)
-    for (int s = 0; s < segments; ++s) {
-      const double a = 2 * std::numbers::pi * s / segments;
-      m.vertices.push_back({kRadius * std::cos(a), kRadius * std::sin(a), kLength * r / rings});
-    }
-  const auto at = [&](int r, int s) { return static_cast<std::int32_t>(r * segments + s % segments); };
-  for (int r = 0; r < rings; ++r)
-    for (int s = 0; s < segments; ++s) {
-      m.triangles.push_back({at(r, s), at(r, s + 1), at(r + 1, s + 1)});
-      m.triangles.push_back({at(r, s), at(r + 1, s + 1), at(r + 1, s)});
-    }
-  return m;
-}
 
 struct Extent {
   double z_min = 1e300, z_max = -1e300;
@@ -62,7 +44,7 @@ constexpr double kFacetInset = kRadius * (1.0 - 0.99946459);  // 1 - cos(pi / 96
 
 void check_sleeve(WallOffset offset) {
   MeshInput input;
-  input.mesh = open_sleeve();
+  input.mesh = test_support::open_sleeve(kRadius, kLength);  // 96 segments, 40 rings
   input.name = "sleeve";
   Options o;
   o.hole_diameter = 5.0;
