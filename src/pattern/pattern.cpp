@@ -53,6 +53,25 @@ std::vector<double> nearest_neighbour_distances(std::vector<Vec3> points);
 
 }  // namespace
 
+std::int64_t close_small_spots(const NarrowBand& band, std::span<double> phi, double level,
+                               double min_diameter) {
+  const std::vector<std::int32_t> label = label_spots(band, phi, level);
+  const double h = band.grid().h();
+  std::vector<double> area;
+  for (std::size_t v = 0; v < label.size(); ++v) {
+    if (label[v] < 0) continue;
+    const auto l = static_cast<std::size_t>(label[v]);
+    if (l >= area.size()) area.resize(l + 1, 0.0);
+    area[l] += h * h * std::max(0.0, 1.0 - std::abs(band.distance()[v]) / h);  // as hole_statistics
+  }
+  const double least_area = std::numbers::pi * min_diameter * min_diameter / 4.0;
+  std::int64_t closed = 0;
+  for (const double a : area) closed += a < least_area ? 1 : 0;
+  for (std::size_t v = 0; v < label.size(); ++v)
+    if (label[v] >= 0 && area[static_cast<std::size_t>(label[v])] < least_area) phi[v] = -1.0;
+  return closed;
+}
+
 HoleStats hole_statistics(const NarrowBand& band, std::span<const double> phi, double level,
                           const std::function<bool(const Vec3&)>& counted) {
   const std::vector<std::int32_t> label = label_spots(band, phi, level);

@@ -27,6 +27,12 @@ std::vector<std::int32_t> label_spots(const NarrowBand& band, std::span<const do
 
 SpotStats spot_statistics(const NarrowBand& band, std::span<const double> phi, double level);
 
+// Makes solid (phi = -1) every spot {phi > level} whose surface area is that of a disc narrower than
+// min_diameter: a hole the equation squeezed next to a solid zone, or a sliver cut by an edge, which
+// would print as a pinhole or a notch. Returns how many it closed.
+std::int64_t close_small_spots(const NarrowBand& band, std::span<double> phi, double level,
+                               double min_diameter);
+
 // The pores as a printer sees them: each spot's area on the surface (its band voxels times h^3 over
 // the band's thickness 2 delta) and the diameter of the disc of that area, in the grid's length unit.
 struct BandHole {

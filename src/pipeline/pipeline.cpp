@@ -27,6 +27,11 @@
 namespace poreshell {
 namespace {
 
+// Holes narrower than this share of the asked diameter are made solid (issue 19: none under 0.7). On
+// the scans at 6 mm holes at 10 mm they are the few the equation squeezed next to a solid zone (fandisk
+// 6 of 435, Spot 1 of 493, the bunny 1 of 422), 2.9-4.2 mm wide.
+constexpr double kLeastHoleShare = 0.7;
+
 // The process's peak resident set so far (Linux reports kilobytes).
 std::size_t peak_rss_bytes() {
   rusage usage{};
@@ -189,6 +194,9 @@ PipelineResult run_pipeline(const Input& input, const Options& given, RunMonitor
   result.layout = solved.layout;
   result.layout_holes = solved.layout_holes;
   std::vector<double> phi = std::move(solved.phi);
+  if (result.plan && !options.preview)
+    result.closed_small_holes = close_small_spots(
+        band, phi, result.plan->level, kLeastHoleShare * result.plan->diameter / placed.mm_per_grid());
   result.spots = spot_statistics(band, phi, 0.0);
   if (options.preview) {
     preview_output(options.iso.front(), options, placed, band, phi, result, monitor);

@@ -105,7 +105,7 @@ Report make_report(const PipelineResult& r, const Options& options) {
   s.energy_first = r.run.energy_first;
   s.energy_last = r.run.energy_last;
   s.energy_trace = r.run.energy_trace;
-  report.pattern = {r.spots.count,         r.spots.size_cv,      r.spots.mean_size,
+  report.pattern = {r.spots.count,         r.closed_small_holes, r.spots.size_cv,   r.spots.mean_size,
                     r.spots.area_fraction, r.spots.spacing_mean, r.spots.spacing_cv};
   for (const MeshOutput& m : r.meshes) report.outputs.push_back(level_report(m));
   report.unperforated_euler_characteristic = r.unperforated_euler;
