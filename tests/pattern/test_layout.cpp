@@ -12,6 +12,7 @@
 
 #include "band/band.hpp"
 #include "pattern/layout.hpp"
+#include "pattern/pattern.hpp"
 
 namespace poreshell {
 namespace {
@@ -134,6 +135,29 @@ TEST(Layout, EvenLayoutHasTheEquationsDensityAndIsEvenAndSeeded) {
   const std::vector<Vec3> capped = even_layout(band(), sphere(), weight, a, 7);
   EXPECT_LT(capped.size(), one.size());
   for (const Vec3& p : capped) EXPECT_LT(p.z(), kCentre.z() + 0.2 - 0.1 * a);
+}
+
+// Pinholes: of a disc 0.16 wide and one 0.06 wide, with 0.1 the least, the small one is made solid and
+// the large one left as it is.
+TEST(Layout, CloseSmallSpotsMakesPinholesSolidAndKeepsTheRest) {
+  const Vec3 big = kCentre + kRadius * Vec3::UnitZ(), small = kCentre - kRadius * Vec3::UnitZ();
+  const std::vector<double> a = disc_field(band(), std::vector<Vec3>{big}, 0.08, 0.01, {}, std::nullopt);
+  const std::vector<double> b = disc_field(band(), std::vector<Vec3>{small}, 0.03, 0.01, {}, std::nullopt);
+  std::vector<double> phi(a.size());
+  for (std::size_t v = 0; v < phi.size(); ++v) phi[v] = std::max(a[v], b[v]);
+  const std::vector<double> before = phi;
+  ASSERT_EQ(spot_statistics(band(), phi, 0.0).count, 2);
+  EXPECT_EQ(close_small_spots(band(), phi, 0.0, 0.1), 1);
+  EXPECT_EQ(spot_statistics(band(), phi, 0.0).count, 1);
+  for (std::size_t v = 0; v < phi.size(); ++v) {
+    if ((band().closest_point(v) - big).norm() < 0.15) {
+      ASSERT_EQ(phi[v], before[v]);
+    }
+    if (before[v] > 0.0 && (band().closest_point(v) - small).norm() < 0.05) {
+      ASSERT_EQ(phi[v], -1.0);
+    }
+  }
+  EXPECT_EQ(close_small_spots(band(), phi, 0.0, 0.1), 0);
 }
 
 }  // namespace
