@@ -13,10 +13,9 @@ namespace poreshell {
 
 AreaSamples area_samples(const NarrowBand& band, std::span<const double> zone_weight, double margin) {
   AreaSamples s;
-  const double h = band.grid().h();
   std::vector<Vec3> zone;
   for (std::size_t v = 0; v < band.size(); ++v) {
-    const double area = h * h * std::max(0.0, 1.0 - std::abs(band.distance()[v]) / h);
+    const double area = band.surface_area(v);
     if (area <= 0.0) continue;
     if (!zone_weight.empty() && zone_weight[v] >= 0.5) {
       zone.push_back(band.closest_point(v));

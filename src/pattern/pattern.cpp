@@ -56,13 +56,12 @@ std::vector<double> nearest_neighbour_distances(std::vector<Vec3> points);
 std::int64_t close_small_spots(const NarrowBand& band, std::span<double> phi, double level,
                                double min_diameter) {
   const std::vector<std::int32_t> label = label_spots(band, phi, level);
-  const double h = band.grid().h();
   std::vector<double> area;
   for (std::size_t v = 0; v < label.size(); ++v) {
     if (label[v] < 0) continue;
     const auto l = static_cast<std::size_t>(label[v]);
     if (l >= area.size()) area.resize(l + 1, 0.0);
-    area[l] += h * h * std::max(0.0, 1.0 - std::abs(band.distance()[v]) / h);  // as hole_statistics
+    area[l] += band.surface_area(v);
   }
   const double least_area = std::numbers::pi * min_diameter * min_diameter / 4.0;
   std::int64_t closed = 0;
@@ -75,19 +74,13 @@ std::int64_t close_small_spots(const NarrowBand& band, std::span<double> phi, do
 HoleStats hole_statistics(const NarrowBand& band, std::span<const double> phi, double level,
                           const std::function<bool(const Vec3&)>& counted) {
   const std::vector<std::int32_t> label = label_spots(band, phi, level);
-  // Surface area carried by each voxel: h^2 hat(psi / h). The hat's shifts sum to one, so a column of
-  // voxels across the surface carries h^2 however the surface sits between grid points (counting voxels
-  // instead is off by up to 20% for a flat sheet aligned with the grid).
   const double h = band.grid().h();
-  const auto area_of = [&](std::size_t v) {
-    return h * h * std::max(0.0, 1.0 - std::abs(band.distance()[v]) / h);
-  };
   std::vector<BandHole> all;
   std::vector<std::int64_t> voxels;
   std::vector<Vec3> closest_sum, reference;  // per hole: sum of closest points; the normal's orientation
   double open_area = 0.0, total_area = 0.0;
   for (std::size_t v = 0; v < label.size(); ++v) {
-    const double area = area_of(v);
+    const double area = band.surface_area(v);
     total_area += area;
     if (label[v] < 0) continue;
     const auto l = static_cast<std::size_t>(label[v]);

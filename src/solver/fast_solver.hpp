@@ -38,7 +38,6 @@ class FastSolver final : public TimeStepper {
   FastSolver(const NarrowBand& band, const ModelParameters& model, double dt, FastOptions options = {});
 
   StepReport step(std::vector<double>& phi) override;
-  void restart() override { steps_ = 0; }  // no extrapolation from the old trajectory
   std::string name() const override { return "fast"; }
 
   // A mean concentration per band voxel instead of the model's phi_bar (solid zones: rims, keep-outs).

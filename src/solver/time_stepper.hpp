@@ -20,9 +20,6 @@ class TimeStepper {
   virtual ~TimeStepper() = default;
   // Advances band values phi^n -> phi^{n+1} in place.
   virtual StepReport step(std::vector<double>& phi) = 0;
-  // The next step starts a new trajectory (phi was replaced): forget what earlier steps left, such
-  // as the history a guess is extrapolated from.
-  virtual void restart() {}
   virtual std::string name() const = 0;
 };
 
