@@ -286,7 +286,7 @@ std::optional<Command> parse_command_line(int argc, const char* const* argv) {
                  ".ply (binary); several --iso levels write OUT-isoC.ext each")
       ->type_name("OUT.stl");
   app.add_option("--report", report, "write the run's JSON report here")->type_name("OUT.json");
-  app.add_flag("-q,--quiet", quiet, "no progress on stderr");
+  app.add_flag("-q,--quiet", quiet, "nothing on stdout and no progress: only errors and warnings, on stderr");
   app.add_option("--progress", progress,
                  "progress on stderr: auto (a bar per stage with the time left on a terminal, else plain "
                  "lines), bar, plain, or json (one object a line: stage, fraction, seconds, eta)")

@@ -85,7 +85,9 @@ int run(int argc, char** argv) {
         command.shape_name == "torus" ? poreshell::ShapeKind::torus : poreshell::ShapeKind::sphere,
         command.radius, command.unit};
   }
-  print_estimate(input_name(input), estimate_with_flags(input, options));
+  // The estimate runs even when quiet: its checks refuse a run that cannot fit before it starts.
+  const poreshell::Estimate cost = estimate_with_flags(input, options);
+  if (!command.quiet) print_estimate(input_name(input), cost);
   ProgressDisplay display(progress_style(command.progress, command.quiet));
   poreshell::RunControl control;
   control.progress = [&display](const poreshell::Progress& p) { display(p); };
@@ -119,7 +121,7 @@ int run(int argc, char** argv) {
   if (!report.empty()) poreshell::save_report(report, r, result.outputs);
   save_views(html, png, result, options, input);
 
-  print_summary(options, r, result.outputs, report);
+  if (!command.quiet) print_summary(options, r, result.outputs, report);
   print_warnings(options, r);
   return 0;
 }

@@ -243,8 +243,8 @@ TEST_F(Cli, OutputInAMissingDirectoryFailsBeforeRunning) {
 TEST_F(Cli, SmallRunWritesStlAndReport) {
   const Outcome o = run(kSmallRun + " -o X.stl --report X.json");
   ASSERT_EQ(o.exit_code, 0) << o.err;
-  EXPECT_NE(o.out.find("X.stl"), std::string::npos) << "the summary names each output:\n" << o.out;
-  // 5 steps cannot reach tol 1e-12: the run succeeds but says so.
+  EXPECT_TRUE(o.out.empty()) << "--quiet prints nothing on stdout:\n" << o.out;
+  // 5 steps cannot reach tol 1e-12: the run succeeds but says so, quiet or not.
   EXPECT_NE(o.err.find("warning"), std::string::npos) << o.err;
   EXPECT_EQ(o.err.find("step "), std::string::npos) << "--quiet prints no progress:\n" << o.err;
 
@@ -282,6 +282,16 @@ TEST_F(Cli, SmallRunWritesStlAndReport) {
   std::vector<std::string> names = files_in_work();
   std::sort(names.begin(), names.end());
   EXPECT_EQ(names, (std::vector<std::string>{"X.json", "X.stl"})) << "no temporary files left behind";
+}
+
+TEST_F(Cli, SummaryGivesTheEstimateAndNamesEachOutputUnlessQuiet) {
+  std::string loud = kSmallRun;
+  loud.erase(loud.find(" --quiet"), std::string(" --quiet").size());
+  const Outcome o = run(loud + " --progress plain -o X.stl");
+  ASSERT_EQ(o.exit_code, 0) << o.err;
+  EXPECT_NE(o.out.find("estimate"), std::string::npos) << "the cost before the run:\n" << o.out;
+  EXPECT_NE(o.out.find("X.stl"), std::string::npos) << "the summary names each output:\n" << o.out;
+  EXPECT_NE(o.err.find("step "), std::string::npos) << "plain progress prints steps:\n" << o.err;
 }
 
 TEST_F(Cli, SeveralIsoLevelsWriteSuffixedFiles) {
