@@ -3,6 +3,7 @@
 
 #include "command_line.hpp"
 
+#include <algorithm>
 #include <map>
 
 #include "cli_support.hpp"
@@ -13,17 +14,24 @@ const std::map<std::string, poreshell::Unit> kUnits{{"m", poreshell::Unit::m},
                                                     {"cm", poreshell::Unit::cm},
                                                     {"mm", poreshell::Unit::mm},
                                                     {"inch", poreshell::Unit::inch}};
-const std::map<std::string, poreshell::Mode> kModes{{"shell", poreshell::Mode::shell},
-                                                    {"narrow-volume", poreshell::Mode::narrow_volume}};
-const std::map<std::string, poreshell::WallOffset> kOffsets{{"centered", poreshell::WallOffset::centered},
-                                                            {"inside", poreshell::WallOffset::inside},
-                                                            {"outside", poreshell::WallOffset::outside}};
-const std::map<std::string, poreshell::SolverKind> kSolvers{{"fast", poreshell::SolverKind::fast},
-                                                            {"reference", poreshell::SolverKind::reference}};
-const std::map<std::string, poreshell::InnerIteration> kInners{
-    {"gauss-seidel", poreshell::InnerIteration::gauss_seidel}, {"jacobi", poreshell::InnerIteration::jacobi}};
-const std::map<std::string, poreshell::PointRoute> kPointRoutes{{"direct", poreshell::PointRoute::direct},
-                                                                {"paper", poreshell::PointRoute::paper}};
+// The library's names of an option's values, with - for _ as flags are spelled.
+template <class Enum>
+std::map<std::string, Enum> flag_names() {
+  std::map<std::string, Enum> names;
+  for (const auto& [name, value] : poreshell::enum_names(Enum{})) {
+    std::string flag(name);
+    std::replace(flag.begin(), flag.end(), '_', '-');
+    names.emplace(std::move(flag), value);
+  }
+  return names;
+}
+const auto kModes = flag_names<poreshell::Mode>();
+const auto kOffsets = flag_names<poreshell::WallOffset>();
+const auto kSolvers = flag_names<poreshell::SolverKind>();
+const auto kInners = flag_names<poreshell::InnerIteration>();
+const auto kPointRoutes = flag_names<poreshell::PointRoute>();
+const auto kStopRules = flag_names<poreshell::StopRule>();
+const auto kLayouts = flag_names<poreshell::Layout>();
 
 // Like CLI::CheckedTransformer, with a message that lists the names alone: "--units: 'furlong' is not
 // one of cm, inch, m, mm".
@@ -40,14 +48,6 @@ CLI::Validator one_of(const std::map<std::string, Enum>& names) {
       },
       "", "");
 }
-
-const std::map<std::string, poreshell::StopRule> kStopRules{{"auto", poreshell::StopRule::automatic},
-                                                            {"paper", poreshell::StopRule::paper},
-                                                            {"holes", poreshell::StopRule::holes}};
-
-const std::map<std::string, poreshell::Layout> kLayouts{{"auto", poreshell::Layout::automatic},
-                                                        {"paper", poreshell::Layout::paper},
-                                                        {"cvt", poreshell::Layout::cvt}};
 
 // --preview and --stop (docs/solver.md "Stop rules").
 void add_stop_flags(CLI::App& app, poreshell::Options& options) {

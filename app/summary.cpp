@@ -16,13 +16,19 @@ std::string yes_no(bool b, const char* yes, const char* no) {
 void print_estimate(const std::string& input_name, const poreshell::Estimate& e) {
   fmt::print("poreshell {}: {}\n", poreshell::version(), input_name);
   fmt::print("  size     {:.4g} x {:.4g} x {:.4g} mm\n", e.size_mm[0], e.size_mm[1], e.size_mm[2]);
-  const std::string time =
-      e.seconds < 90.0 ? fmt::format("{:.0f} s", e.seconds) : fmt::format("{:.1f} min", e.seconds / 60.0);
+  const std::string time = e.seconds < 10.0   ? fmt::format("{:.1f} s", e.seconds)
+                           : e.seconds < 90.0 ? fmt::format("{:.0f} s", e.seconds)
+                                              : fmt::format("{:.1f} min", e.seconds / 60.0);
+  const std::string output =
+      e.preview
+          ? fmt::format("the surface painted, {:.3g} MB as PLY ({:.3g} million triangles; preview)",
+                        e.ply_bytes / 1e6, e.triangles / 1e6)
+          : fmt::format("{:.3g} MB as STL ({:.3g} million triangles)", e.stl_bytes / 1e6, e.triangles / 1e6);
   fmt::print(
       "  estimate about {:.3g} million band voxels on {} x {} x {} (h = {:.3g} mm): about {} on 2 cores, "
-      "peak memory {:.0f} MiB, output {:.3g} MB as STL ({:.3g} million triangles)\n",
+      "peak memory {:.0f} MiB, output {}\n",
       e.band_voxels / 1e6, e.grid[0], e.grid[1], e.grid[2], e.voxel_size_mm, time,
-      e.peak_bytes / (1024.0 * 1024.0), e.stl_bytes / 1e6, e.triangles / 1e6);
+      e.peak_bytes / (1024.0 * 1024.0), output);
   for (const std::string& warning : e.warnings) fmt::print("  warning  {}\n", warning);
   std::fflush(stdout);
 }

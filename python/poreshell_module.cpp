@@ -8,6 +8,7 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -166,13 +167,13 @@ std::string to_string(const std::string& name, py::handle value) {
 }
 
 template <typename Enum>
-Enum to_enum(const std::string& name, py::handle value, const std::map<std::string, Enum>& choices) {
+Enum to_enum(const std::string& name, py::handle value) {
   std::string text = to_string(name, value);
-  for (char& ch : text)
-    if (ch == '-') ch = '_';
-  if (const auto it = choices.find(text); it != choices.end()) return it->second;
+  std::replace(text.begin(), text.end(), '-', '_');
+  if (const std::optional<Enum> e = poreshell::enum_from_name<Enum>(text)) return *e;
   std::string names;
-  for (const auto& [key, unused] : choices) names += (names.empty() ? "'" : ", '") + key + "'";
+  for (const auto& entry : poreshell::enum_names(Enum{}))
+    names += (names.empty() ? "'" : ", '") + std::string(entry.name) + "'";
   bad_value(name, "one of " + names, value);
 }
 
@@ -212,15 +213,13 @@ poreshell::Grade to_grade(py::handle value) {
     const std::string key = py::str(key_handle);
     const std::string name = "grade[" + key + "]";
     if (key == "kind") {
-      grade.kind = to_enum<poreshell::Grade::Kind>(name, item,
-                                                   {{"axis", poreshell::Grade::Kind::axis},
-                                                    {"line", poreshell::Grade::Kind::line},
-                                                    {"radial", poreshell::Grade::Kind::radial},
-                                                    {"field", poreshell::Grade::Kind::field}});
+      grade.kind = to_enum<poreshell::Grade::Kind>(name, item);
     } else if (key == "axis") {
-      if (py::isinstance<py::str>(item))
-        grade.axis = to_enum<int>(name, item, {{"x", 0}, {"y", 1}, {"z", 2}});
-      else
+      if (py::isinstance<py::str>(item)) {
+        const std::string axis = to_string(name, item);
+        if (axis != "x" && axis != "y" && axis != "z") bad_value(name, "one of 'x', 'y', 'z'", item);
+        grade.axis = axis[0] - 'x';
+      } else
         grade.axis = to_int<int>(name, item);
     } else if (key == "from") {
       grade.from = to_point(name, item);
@@ -254,10 +253,9 @@ Setter set_int(Int poreshell::Options::*field) {
   return [field](poreshell::Options& o, const std::string& n, py::handle v) { o.*field = to_int<Int>(n, v); };
 }
 template <typename Enum>
-Setter set_enum(Enum poreshell::Options::*field, std::map<std::string, Enum> choices) {
-  return [field, choices](poreshell::Options& o, const std::string& n, py::handle v) {
-    o.*field = to_enum(n, v, choices);
-  };
+Setter set_enum(Enum poreshell::Options::*field) {
+  return
+      [field](poreshell::Options& o, const std::string& n, py::handle v) { o.*field = to_enum<Enum>(n, v); };
 }
 
 // Every field of poreshell::Options, by its API name.
@@ -270,12 +268,9 @@ const std::map<std::string, Setter>& setters() {
       {"grade", [](O& o, const std::string&, py::handle v) { o.grade = to_grade(v); }},
       {"resolution", set_int(&O::resolution)},
       {"voxel_size", set_double(&O::voxel_size)},
-      {"mode", set_enum(&O::mode, {{"shell", poreshell::Mode::shell},
-                                   {"narrow_volume", poreshell::Mode::narrow_volume}})},
+      {"mode", set_enum(&O::mode)},
       {"wall", set_double(&O::wall)},
-      {"offset", set_enum(&O::offset, {{"centered", poreshell::WallOffset::centered},
-                                       {"inside", poreshell::WallOffset::inside},
-                                       {"outside", poreshell::WallOffset::outside}})},
+      {"offset", set_enum(&O::offset)},
       {"rim", set_double(&O::rim)},
       {"keep_out",
        [](O& o, const std::string& n, py::handle v) {
@@ -310,23 +305,16 @@ const std::map<std::string, Setter>& setters() {
       {"seed", set_int(&O::seed)},
       {"tolerance", set_double(&O::tolerance)},
       {"max_steps", set_int(&O::max_steps)},
-      {"stop", set_enum(&O::stop, {{"auto", poreshell::StopRule::automatic},
-                                   {"paper", poreshell::StopRule::paper},
-                                   {"holes", poreshell::StopRule::holes}})},
-      {"layout", set_enum(&O::layout, {{"auto", poreshell::Layout::automatic},
-                                       {"paper", poreshell::Layout::paper},
-                                       {"cvt", poreshell::Layout::cvt}})},
-      {"solver", set_enum(&O::solver, {{"fast", poreshell::SolverKind::fast},
-                                       {"reference", poreshell::SolverKind::reference}})},
+      {"stop", set_enum(&O::stop)},
+      {"layout", set_enum(&O::layout)},
+      {"solver", set_enum(&O::solver)},
       {"fast_tolerance", set_double(&O::fast_tolerance)},
       {"min_stabilisation", set_double(&O::min_stabilisation)},
       {"coarse_start", [](O& o, const std::string& n, py::handle v) { o.coarse_start = to_bool(n, v); }},
-      {"inner", set_enum(&O::inner, {{"gauss_seidel", poreshell::InnerIteration::gauss_seidel},
-                                     {"jacobi", poreshell::InnerIteration::jacobi}})},
+      {"inner", set_enum(&O::inner)},
       {"inner_tolerance", set_double(&O::inner_tolerance)},
       {"energy_every", set_int(&O::energy_every)},
-      {"point_route", set_enum(&O::point_route, {{"direct", poreshell::PointRoute::direct},
-                                                 {"paper", poreshell::PointRoute::paper}})},
+      {"point_route", set_enum(&O::point_route)},
       {"max_memory_gb", set_double(&O::max_memory_gb)},
       {"threads", set_int(&O::threads)},
   };

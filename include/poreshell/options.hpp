@@ -3,9 +3,11 @@
 // stated with the input); the defaults are the paper's section 3.2 values and the CLI's defaults.
 // validate() checks an Options alone; perforate() checks it against the input too.
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "poreshell/export.hpp"
@@ -57,6 +59,54 @@ struct Grade {
 // Parses the CLI's grading spec: axis:x|y|z:D1:D2, line:X,Y,Z:D1:X,Y,Z:D2, radial:X,Y,Z:R:D0,
 // field:NAME[:D0:D1]. Throws Error (invalid_option, `grade`).
 PORESHELL_API Grade parse_grade(const std::string& text);
+
+// The names of each choice's values: the report's `settings`, Python's keyword values, and (with - for _)
+// the command line's. One table per enum, so that every front end spells them alike.
+template <class Enum>
+struct EnumName {
+  std::string_view name;
+  Enum value;
+};
+constexpr std::array<EnumName<Mode>, 2> enum_names(Mode) {
+  return {{{"shell", Mode::shell}, {"narrow_volume", Mode::narrow_volume}}};
+}
+constexpr std::array<EnumName<WallOffset>, 3> enum_names(WallOffset) {
+  return {
+      {{"centered", WallOffset::centered}, {"inside", WallOffset::inside}, {"outside", WallOffset::outside}}};
+}
+constexpr std::array<EnumName<SolverKind>, 2> enum_names(SolverKind) {
+  return {{{"fast", SolverKind::fast}, {"reference", SolverKind::reference}}};
+}
+constexpr std::array<EnumName<InnerIteration>, 2> enum_names(InnerIteration) {
+  return {{{"gauss_seidel", InnerIteration::gauss_seidel}, {"jacobi", InnerIteration::jacobi}}};
+}
+constexpr std::array<EnumName<StopRule>, 3> enum_names(StopRule) {
+  return {{{"auto", StopRule::automatic}, {"paper", StopRule::paper}, {"holes", StopRule::holes}}};
+}
+constexpr std::array<EnumName<Layout>, 3> enum_names(Layout) {
+  return {{{"auto", Layout::automatic}, {"paper", Layout::paper}, {"cvt", Layout::cvt}}};
+}
+constexpr std::array<EnumName<PointRoute>, 2> enum_names(PointRoute) {
+  return {{{"direct", PointRoute::direct}, {"paper", PointRoute::paper}}};
+}
+constexpr std::array<EnumName<Grade::Kind>, 4> enum_names(Grade::Kind) {
+  return {{{"axis", Grade::Kind::axis},
+           {"line", Grade::Kind::line},
+           {"radial", Grade::Kind::radial},
+           {"field", Grade::Kind::field}}};
+}
+template <class Enum>
+constexpr std::string_view name_of(Enum value) {
+  for (const auto& entry : enum_names(Enum{}))
+    if (entry.value == value) return entry.name;
+  return {};
+}
+template <class Enum>
+constexpr std::optional<Enum> enum_from_name(std::string_view name) {
+  for (const auto& entry : enum_names(Enum{}))
+    if (entry.name == name) return entry.value;
+  return std::nullopt;
+}
 
 struct KeepOutSphere {
   Point centre{};  // mm, input frame

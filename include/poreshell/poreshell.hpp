@@ -43,6 +43,8 @@ struct Estimate {
   double peak_bytes = 0.0;  // resident memory
   double triangles = 0.0;   // per output level
   double stl_bytes = 0.0;   // per output level as binary STL
+  bool preview = false;     // Options::preview: the output is the surface painted, not a shell
+  double ply_bytes = 0.0;   // a preview's output as PLY with vertex colours (its usual format)
   std::vector<std::string> warnings;
 };
 PORESHELL_API Estimate estimate(const Input& input, const Options& options);

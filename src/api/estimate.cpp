@@ -33,6 +33,12 @@ constexpr double kPeakFixedBytes = 50.0 * 1024 * 1024, kPeakBytesPerVoxel = 275.
 constexpr double kTrianglesPerShellCell = 4.8;  // per band voxel, times (h / shell spacing)^2
 constexpr double kStlBytesPerTriangle = 50.0;
 constexpr double kStlHeaderBytes = 84.0;
+// A preview: the band's slab {|psi| < h} meshed on the band's grid, about 4.8 triangles per band voxel
+// (the bunny, 8 mm holes at 14 mm: 790,948 from 163,539), written as PLY with a colour per vertex
+// (12 + 3 bytes a vertex, 13 a triangle, half as many vertices as triangles: 20.5 bytes a triangle).
+// Its time: no solve, so about linear in the band (docs/benchmarks.md "Estimates").
+constexpr double kPreviewTrianglesPerVoxel = 4.84, kPlyBytesPerTriangle = 20.5;
+constexpr double kPreviewSecondsFixed = 0.5, kPreviewSecondsPerVoxel = 6e-6;
 
 // Thresholds of the warnings: the size a print usually has, and a cost worth a second thought.
 constexpr double kSmallModelMm = 5.0, kLargeModelMm = 3000.0;
@@ -76,6 +82,8 @@ Estimate estimate(const Input& input, const Options& given) {
   if (options.hole_diameter > 0.0 || options.spacing > 0.0 || options.porosity > 0.0) {
     plan = plan_pattern({options.hole_diameter, options.spacing, options.porosity});
     options.voxel_size = choose_voxel_size(options.voxel_size, *plan);
+    // As the pipeline: a preview runs on the pattern's own grid, never finer.
+    if (options.preview) options.voxel_size = std::max(options.voxel_size, plan->voxel_size);
   }
   const PlacedSurface placed = place_surface(input, options);
   const double mm_per_grid = placed.mm_per_grid();
@@ -104,6 +112,13 @@ Estimate estimate(const Input& input, const Options& given) {
   if (options.max_triangles > 0)
     e.triangles = std::min(e.triangles, static_cast<double>(options.max_triangles));
   e.stl_bytes = kStlHeaderBytes + kStlBytesPerTriangle * e.triangles;
+  if (options.preview) {
+    e.preview = true;
+    e.seconds = kPreviewSecondsFixed + kPreviewSecondsPerVoxel * band.voxels;
+    e.triangles = kPreviewTrianglesPerVoxel * band.voxels;
+    e.stl_bytes = kStlHeaderBytes + kStlBytesPerTriangle * e.triangles;
+    e.ply_bytes = kPlyBytesPerTriangle * e.triangles;
+  }
 
   size_warnings(e, input, given, e.warnings);
   // The smallest extent that holes can span: a flat part's thickness (under a tenth of its length) is
@@ -123,7 +138,7 @@ Estimate estimate(const Input& input, const Options& given) {
         fmt::format("this run may take about {:.0f} minutes; a coarser `resolution` or "
                     "`voxel_size`, or larger holes, make it faster",
                     e.seconds / 60.0));
-  if (e.stl_bytes > kLargeOutputBytes)
+  if (e.stl_bytes > kLargeOutputBytes && !e.preview)
     e.warnings.push_back(fmt::format("the output may be about {:.0f} MB as STL; `max_triangles` reduces it",
                                      e.stl_bytes / 1e6));
   return e;

@@ -63,18 +63,10 @@ json level_json(const LevelReport& m, const Report& r) {
 // Every option by its API name (the Python keywords; the CLI's flags with - for _), so that a report
 // says exactly what was asked for.
 json settings_json(const Options& o) {
-  static constexpr const char* kModes[] = {"shell", "narrow_volume"};
-  static constexpr const char* kOffsets[] = {"centered", "inside", "outside"};
-  static constexpr const char* kSolvers[] = {"fast", "reference"};
-  static constexpr const char* kInners[] = {"gauss_seidel", "jacobi"};
-  static constexpr const char* kStops[] = {"auto", "paper", "holes"};
-  static constexpr const char* kRoutes[] = {"direct", "paper"};
-  static constexpr const char* kLayouts[] = {"auto", "paper", "cvt"};
-  static constexpr const char* kGrades[] = {"axis", "line", "radial", "field"};
-  const auto name = [](const auto& names, auto value) { return names[static_cast<int>(value)]; };
+  const auto name = [](auto value) { return std::string(name_of(value)); };
   json grade = nullptr;
   if (o.grade)
-    grade = {{"kind", name(kGrades, o.grade->kind)},
+    grade = {{"kind", name(o.grade->kind)},
              {"axis", o.grade->axis},
              {"from", o.grade->from},
              {"to", o.grade->to},
@@ -93,9 +85,9 @@ json settings_json(const Options& o) {
           {"grade", grade},
           {"resolution", o.resolution},
           {"voxel_size", o.voxel_size},
-          {"mode", name(kModes, o.mode)},
+          {"mode", name(o.mode)},
           {"wall", o.wall},
-          {"offset", name(kOffsets, o.offset)},
+          {"offset", name(o.offset)},
           {"rim", o.rim},
           {"thin_feature_ratio", o.thin_feature_ratio},
           {"crease_angle", o.crease_angle},
@@ -114,18 +106,18 @@ json settings_json(const Options& o) {
           {"initial_amplitude", o.initial_amplitude},
           {"seed", o.seed},
           {"preview", o.preview},
-          {"stop", name(kStops, o.stop)},
-          {"layout", name(kLayouts, o.layout)},
+          {"stop", name(o.stop)},
+          {"layout", name(o.layout)},
           {"tolerance", o.tolerance},
           {"max_steps", o.max_steps},
-          {"solver", name(kSolvers, o.solver)},
+          {"solver", name(o.solver)},
           {"fast_tolerance", o.fast_tolerance},
           {"min_stabilisation", o.min_stabilisation},
           {"coarse_start", o.coarse_start},
-          {"inner", name(kInners, o.inner)},
+          {"inner", name(o.inner)},
           {"inner_tolerance", o.inner_tolerance},
           {"energy_every", o.energy_every},
-          {"point_route", name(kRoutes, o.point_route)},
+          {"point_route", name(o.point_route)},
           {"max_memory_gb", o.max_memory_gb},
           {"threads", o.threads}};
 }

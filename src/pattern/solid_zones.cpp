@@ -113,10 +113,8 @@ std::vector<double> solid_zones(const Options& c, const PlacedSurface& placed, c
   std::vector<SolidSphere> spheres;
   for (const KeepOutSphere& k : c.keep_out) spheres.push_back({from_mm(k.centre), k.radius * grid_per_mm});
   std::vector<SolidBox> boxes;
-  for (const KeepOutBox& k : c.keep_out_boxes) {
-    const Vec3 a = from_mm(k.min), b = from_mm(k.max);
-    boxes.push_back({a.cwiseMin(b), a.cwiseMax(b)});
-  }
+  for (const KeepOutBox& k : c.keep_out_boxes)
+    boxes.push_back(SolidBox::spanned(from_mm(k.min), from_mm(k.max)));
   const std::vector<Segment> boundary =
       placed.mesh ? boundary_segments(*placed.mesh) : std::vector<Segment>{};
   // The ramp lets the pattern meet the zone over about one interface width.

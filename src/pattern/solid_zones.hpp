@@ -24,6 +24,9 @@ struct SolidSphere {
 
 struct SolidBox {
   Vec3 min = Vec3::Zero(), max = Vec3::Zero();  // axis-aligned corners
+
+  // From any two opposite corners (a keep-out box is given by two, in either order).
+  static SolidBox spanned(const Vec3& a, const Vec3& b) { return {a.cwiseMin(b), a.cwiseMax(b)}; }
 };
 
 // Distance from a point to a segment, and the signed distance to a box (negative inside).

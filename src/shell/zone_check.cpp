@@ -36,10 +36,8 @@ ZoneCheck check_zones(std::span<const HoleDisc> holes, const Options& options, c
     double nearest = std::numeric_limits<double>::infinity();
     for (const KeepOutSphere& k : options.keep_out)
       nearest = std::min(nearest, (h.centre - vec(k.centre)).norm() - k.radius);
-    for (const KeepOutBox& k : options.keep_out_boxes) {
-      const Vec3 lo = vec(k.min).cwiseMin(vec(k.max)), hi = vec(k.min).cwiseMax(vec(k.max));
-      nearest = std::min(nearest, box_distance(h.centre, {lo, hi}));
-    }
+    for (const KeepOutBox& k : options.keep_out_boxes)
+      nearest = std::min(nearest, box_distance(h.centre, SolidBox::spanned(vec(k.min), vec(k.max))));
     nearest -= 0.5 * h.diameter;
     if (nearest < 0.0) ++check.holes_in_keep_outs;
     clearance = std::min(clearance, nearest);

@@ -1,0 +1,65 @@
+// poreshell::estimate(): what a run will cost, said before it runs. The band is counted on a coarser
+// grid and the rest are fits (docs/benchmarks.md "Estimates"), so these tests hold the estimate to what a
+// run then measures, within the fits' stated error, and to the warnings a user needs.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <string>
+
+#include "poreshell/poreshell.hpp"
+
+using namespace poreshell;
+
+namespace {
+
+Options holes(double diameter, double spacing) {
+  Options o;
+  o.hole_diameter = diameter;
+  o.spacing = spacing;
+  o.wall = 2.0;
+  return o;
+}
+
+bool any_warning_has(const Estimate& e, const std::string& text) {
+  return std::any_of(e.warnings.begin(), e.warnings.end(),
+                     [&](const std::string& w) { return w.find(text) != std::string::npos; });
+}
+
+}  // namespace
+
+// A preview is estimated as what it makes: the band on the pattern's own grid, the surface's slab as
+// PLY, and a fraction of the full run's time.
+TEST(Estimate, PreviewIsEstimatedAsThePaintedSurfaceAndMatchesTheRun) {
+  Options o = holes(6.0, 10.0);
+  o.preview = true;
+  const Input input = sphere(25.0);
+  const Estimate preview = estimate(input, o);
+  EXPECT_TRUE(preview.preview);
+  const Result r = perforate(input, o);
+  const auto voxels = static_cast<double>(r.report.band.voxels);
+  EXPECT_NEAR(preview.band_voxels, voxels, 0.15 * voxels);
+  const auto triangles = static_cast<double>(r.outputs.at(0).mesh.triangles.size());
+  EXPECT_NEAR(preview.triangles, triangles, 0.10 * triangles);
+  EXPECT_NEAR(preview.ply_bytes, 20.5 * triangles, 0.15 * 20.5 * triangles);
+
+  o.preview = false;
+  const Estimate full = estimate(input, o);
+  EXPECT_FALSE(full.preview);
+  EXPECT_LT(preview.seconds, 0.5 * full.seconds) << "a preview solves nothing";
+  EXPECT_GT(full.triangles, preview.triangles) << "the shell is meshed finer than the band";
+  EXPECT_EQ(full.ply_bytes, 0.0);
+}
+
+// A scan in metres read as millimetres is a speck: the estimate says so and names the unit that makes
+// it a usual size.
+TEST(Estimate, ATinyModelGetsTheUnitThatMakesItAUsualSize) {
+  MeshInput scan;  // a tetrahedron 0.15 across: metres, given as mm
+  scan.mesh.vertices = {{0, 0, 0}, {0.15, 0, 0}, {0, 0.15, 0}, {0, 0, 0.15}};
+  scan.mesh.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  const Estimate e = estimate(scan, Options{});
+  EXPECT_TRUE(any_warning_has(e, "smaller than most prints")) << (e.warnings.empty() ? "" : e.warnings[0]);
+  EXPECT_TRUE(any_warning_has(e, "`units` m")) << (e.warnings.empty() ? "" : e.warnings[0]);
+  scan.unit = Unit::m;
+  EXPECT_FALSE(any_warning_has(estimate(scan, Options{}), "than most prints"));
+}
