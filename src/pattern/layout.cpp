@@ -83,12 +83,54 @@ constexpr double kZoneMargin = 0.15;
 // well within them (docs/solver.md "Layout").
 constexpr int kLloydIterations = 60;
 
+// Each sample's nearest centre as nearest_centres gives it, searched first among the centre nearest it
+// before (`previous`, indices into `centres`; empty: none) and that centre's kCandidates nearest: a
+// centre off that list is at least `reach` (the list's last distance) from the previous one, so at least
+// reach - |x - previous| from the sample x; where that is not more than the best on the list, the tree
+// decides. The same cells as nearest_centres, several times faster once the centres move little.
+constexpr std::size_t kCandidates = 12;
+
+std::vector<std::int32_t> nearest_centres_near(const AreaSamples& samples, std::span<const Vec3> centres,
+                                               std::span<const std::int32_t> previous) {
+  if (previous.size() != samples.points.size() || centres.size() <= kCandidates)
+    return nearest_centres(samples, centres);
+  const PointTree tree(std::vector<Vec3>(centres.begin(), centres.end()));
+  const std::size_t k = kCandidates + 1;  // the centre itself and its kCandidates nearest
+  std::vector<std::int32_t> list(centres.size() * k);
+  std::vector<double> reach(centres.size());
+  tbb::parallel_for(std::size_t{0}, centres.size(), [&](std::size_t c) {
+    const std::vector<std::size_t> near = tree.k_nearest(centres[c], k);
+    for (std::size_t j = 0; j < k; ++j) list[c * k + j] = static_cast<std::int32_t>(near[j]);
+    reach[c] = (centres[near.back()] - centres[c]).norm();
+  });
+  std::vector<std::int32_t> cell(samples.points.size(), -1);
+  tbb::parallel_for(std::size_t{0}, cell.size(), [&](std::size_t i) {
+    const Vec3& x = samples.points[i];
+    const auto p = static_cast<std::size_t>(previous[i]);
+    double best_d2 = std::numeric_limits<double>::infinity();
+    std::int32_t best = -1;
+    for (std::size_t j = p * k; j < (p + 1) * k; ++j) {
+      const double d2 = (centres[static_cast<std::size_t>(list[j])] - x).squaredNorm();
+      if (d2 < best_d2 || (d2 == best_d2 && list[j] < best)) {
+        best_d2 = d2;
+        best = list[j];
+      }
+    }
+    // A relative 1e-9 of slack for the rounding of the distances.
+    const bool sure =
+        std::sqrt(best_d2) * (1.0 + 1e-9) < reach[p] - (centres[p] - x).norm() - 1e-9 * reach[p];
+    cell[i] = sure ? best : static_cast<std::int32_t>(tree.nearest(x).first);
+  });
+  return cell;
+}
+
 }  // namespace
 
 std::vector<Vec3> lloyd_centres(std::vector<Vec3> centres, const AreaSamples& samples, const Surface& surface,
                                 int iterations) {
+  std::vector<std::int32_t> cell;
   for (int it = 0; it < iterations && !centres.empty(); ++it) {
-    const std::vector<std::int32_t> cell = nearest_centres(samples, centres);
+    cell = nearest_centres_near(samples, centres, cell);
     std::vector<Vec3> sum(centres.size(), Vec3::Zero());
     std::vector<double> area(centres.size(), 0.0);
     for (std::size_t i = 0; i < cell.size(); ++i) {
@@ -103,6 +145,7 @@ std::vector<Vec3> lloyd_centres(std::vector<Vec3> centres, const AreaSamples& sa
       const Vec3 target = centres[c] + kOverRelaxation * (sum[c] / area[c] - centres[c]);
       moved.push_back(surface.closest_point(target).value_or(target));
     }
+    if (moved.size() != centres.size()) cell.clear();  // the indices moved: no hints next time
     centres = std::move(moved);
   }
   return centres;
