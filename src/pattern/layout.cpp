@@ -3,8 +3,10 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <numeric>
 
 #include "geometry/point_tree.hpp"
@@ -151,6 +153,110 @@ std::vector<Vec3> lloyd_centres(std::vector<Vec3> centres, const AreaSamples& sa
   return centres;
 }
 
+namespace {
+
+// The spreading after Lloyd's iteration (docs/solver.md "Layout"): kSpreadIterations steps, each moving
+// a centre kSpreadStep times the sum of how much closer than the mean the nearer of its kSpreadNeighbours
+// nearest are (a Jacobi step on springs that only push). A prototype on the sphere (6 mm at 10 mm, seeds
+// 1-5, the layout's own centres, Lloyd's NN CV 0.048): 0.25 settles the NN CV in about 30 steps (0.034
+// after 15, 0.030 after 30, 0.027 after 60); 0.5 overshoots and oscillates (0.057); 0.1 gives 0.035
+// after 30.
+constexpr int kSpreadIterations = 30;
+constexpr double kSpreadStep = 0.25;
+constexpr std::size_t kSpreadNeighbours = 6;
+
+// No centre moves further than this (times the spacing) from where Lloyd's iteration put it. The
+// equation moves the centres the spreading moved most back part of the way: on the bunny (8 mm at 14
+// mm) unbounded, 179 of 189 preview holes stay within 0.15 spacing of the full run's (Lloyd alone: 182),
+// with 0.2: 183 (0.15: 182). On the sphere the bound changes the CVs by under 0.0005 (the largest move
+// there is 0.26 spacing, 90% are under 0.14).
+constexpr double kMaxShift = 0.2;
+
+// A centre moves only with the whole disc of one spacing a around it free: at least this share of pi a^2
+// of free area within a of it (a plane's share and a sphere's is 1, curvature adds a little; a centre
+// 0.84 a from a straight edge of the free area has 0.95). The others, along solid zones and open edges,
+// stay where Lloyd's iteration put them: pushed from inside, they would have only the zone to go to.
+constexpr double kFreeDisc = 0.95;
+
+// The free area within r of each point: the samples in cubes of side r, each point's 27 cubes searched
+// in a fixed order.
+std::vector<double> area_within(const AreaSamples& samples, std::span<const Vec3> points, double r) {
+  using Key = std::array<std::int64_t, 3>;
+  const auto key_of = [r](const Vec3& p) {
+    return Key{static_cast<std::int64_t>(std::floor(p.x() / r)),
+               static_cast<std::int64_t>(std::floor(p.y() / r)),
+               static_cast<std::int64_t>(std::floor(p.z() / r))};
+  };
+  std::vector<std::pair<Key, std::size_t>> sorted(samples.points.size());
+  for (std::size_t i = 0; i < sorted.size(); ++i) sorted[i] = {key_of(samples.points[i]), i};
+  std::sort(sorted.begin(), sorted.end());
+  std::vector<double> area(points.size(), 0.0);
+  tbb::parallel_for(std::size_t{0}, points.size(), [&](std::size_t q) {
+    const Key at = key_of(points[q]);
+    for (std::int64_t dx = -1; dx <= 1; ++dx)
+      for (std::int64_t dy = -1; dy <= 1; ++dy)
+        for (std::int64_t dz = -1; dz <= 1; ++dz) {
+          const Key k{at[0] + dx, at[1] + dy, at[2] + dz};
+          auto it = std::lower_bound(sorted.begin(), sorted.end(), std::pair{k, std::size_t{0}});
+          for (; it != sorted.end() && it->first == k; ++it)
+            if ((samples.points[it->second] - points[q]).squaredNorm() <= r * r)
+              area[q] += samples.area[it->second];
+        }
+  });
+  return area;
+}
+
+}  // namespace
+
+std::vector<Vec3> spread_centres(std::vector<Vec3> centres, const AreaSamples& samples,
+                                 const Surface& surface, double spacing, double reach, int iterations) {
+  const std::size_t n = centres.size();
+  if (n <= kSpreadNeighbours || samples.points.empty()) return centres;
+  const std::vector<double> around = area_within(samples, centres, spacing);
+  std::vector<std::size_t> moving;
+  for (std::size_t c = 0; c < n; ++c)
+    if (around[c] >= kFreeDisc * std::numbers::pi * spacing * spacing) moving.push_back(c);
+  if (moving.empty()) return centres;
+  const PointTree free(samples.points);
+  const std::size_t k = kSpreadNeighbours;
+  std::vector<std::size_t> near(moving.size() * k);
+  std::vector<double> dist(moving.size() * k);
+  const std::vector<Vec3> start = centres;
+  for (int it = 0; it < iterations; ++it) {
+    const PointTree tree(centres);
+    tbb::parallel_for(std::size_t{0}, moving.size(), [&](std::size_t m) {
+      const std::size_t c = moving[m];
+      std::size_t j = m * k;
+      for (const std::size_t other : tree.k_nearest(centres[c], k + 1))
+        if (other != c && j < (m + 1) * k) {
+          near[j] = other;
+          dist[j++] = (centres[other] - centres[c]).norm();
+        }
+    });
+    // In order: the same mean on any thread count.
+    const double mean = std::accumulate(dist.begin(), dist.end(), 0.0) / static_cast<double>(dist.size());
+    std::vector<Vec3> target(moving.size());
+    tbb::parallel_for(std::size_t{0}, moving.size(), [&](std::size_t m) {
+      const Vec3& x = centres[moving[m]];
+      Vec3 push = Vec3::Zero();
+      for (std::size_t j = m * k; j < (m + 1) * k; ++j)
+        if (dist[j] < mean && dist[j] > 0.0) push += (mean - dist[j]) / dist[j] * (x - centres[near[j]]);
+      target[m] = x + kSpreadStep * push;
+    });
+    // A move further than kMaxShift from the start, or out of the free area (no sample within `reach`
+    // of the moved centre, nor as near as to the centre before), is not taken.
+    std::vector<Vec3> next = centres;
+    for (std::size_t m = 0; m < moving.size(); ++m) {
+      const std::size_t c = moving[m];
+      const Vec3 moved = surface.closest_point(target[m]).value_or(target[m]);
+      if ((moved - start[c]).norm() > kMaxShift * spacing) continue;
+      if (free.nearest(moved).second <= std::max(reach, free.nearest(centres[c]).second)) next[c] = moved;
+    }
+    centres = std::move(next);
+  }
+  return centres;
+}
+
 std::vector<Vec3> farthest_point_centres(const AreaSamples& samples, std::size_t count, std::uint64_t seed) {
   std::vector<Vec3> centres;
   const std::size_t n = samples.points.size();
@@ -208,7 +314,9 @@ std::vector<Vec3> even_layout(const NarrowBand& band, const Surface& surface,
   const AreaSamples samples = area_samples(band, zone_weight, kZoneMargin * spacing);
   const double area = std::accumulate(samples.area.begin(), samples.area.end(), 0.0);
   const auto count = static_cast<std::size_t>(std::lround(area / (kAreaPerHole * spacing * spacing)));
-  return lloyd_centres(farthest_point_centres(samples, count, seed), samples, surface, kLloydIterations);
+  std::vector<Vec3> centres =
+      lloyd_centres(farthest_point_centres(samples, count, seed), samples, surface, kLloydIterations);
+  return spread_centres(std::move(centres), samples, surface, spacing, band.grid().h(), kSpreadIterations);
 }
 
 }  // namespace poreshell
