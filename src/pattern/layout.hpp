@@ -54,8 +54,8 @@ std::vector<Vec3> farthest_point_centres(const AreaSamples& samples, std::size_t
 
 // The hole centres of an even layout at the equation's own density for `spacing` (grid units): the free
 // surface's area gives the count, the farthest-point start spreads them, Lloyd's iteration makes them a
-// centroidal Voronoi tessellation, spread_centres evens out their distances. Deterministic for a seed,
-// on any thread count.
+// centroidal Voronoi tessellation, spread_centres evens out their distances and two more Lloyd
+// iterations settle them for the equation. Deterministic for a seed, on any thread count.
 std::vector<Vec3> even_layout(const NarrowBand& band, const Surface& surface,
                               std::span<const double> zone_weight, double spacing, std::uint64_t seed);
 
