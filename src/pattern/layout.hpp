@@ -38,13 +38,24 @@ double cell_area_cv(const AreaSamples& samples, std::span<const Vec3> centres);
 std::vector<Vec3> lloyd_centres(std::vector<Vec3> centres, const AreaSamples& samples, const Surface& surface,
                                 int iterations);
 
+// Evens out the distances between neighbouring centres, which Lloyd's iteration leaves uneven where its
+// tessellation settles with dislocations (pairs of 5- and 7-neighbour cells): each iteration pushes a
+// centre away from those of its 6 nearest that are closer than the mean distance to them, projected
+// onto the surface. Centres with less free area than a full disc of radius `spacing` around them (near a
+// solid zone or an open edge) stay where they are; a move that takes a centre further than `reach` from
+// every sample (out of the free area), or further than 0.2 spacing from where it started, is not taken.
+// Deterministic, on any thread count.
+std::vector<Vec3> spread_centres(std::vector<Vec3> centres, const AreaSamples& samples,
+                                 const Surface& surface, double spacing, double reach, int iterations);
+
 // `count` well-spread starting centres among the samples: the seed picks the first (area-weighted), each
 // next one is the sample farthest from those chosen. Deterministic for a seed.
 std::vector<Vec3> farthest_point_centres(const AreaSamples& samples, std::size_t count, std::uint64_t seed);
 
 // The hole centres of an even layout at the equation's own density for `spacing` (grid units): the free
 // surface's area gives the count, the farthest-point start spreads them, Lloyd's iteration makes them a
-// centroidal Voronoi tessellation. Deterministic for a seed, on any thread count.
+// centroidal Voronoi tessellation, spread_centres evens out their distances and two more Lloyd
+// iterations settle them for the equation. Deterministic for a seed, on any thread count.
 std::vector<Vec3> even_layout(const NarrowBand& band, const Surface& surface,
                               std::span<const double> zone_weight, double spacing, std::uint64_t seed);
 
