@@ -15,10 +15,46 @@ namespace {
 
 using Edge = std::pair<std::int32_t, std::int32_t>;
 
+// Points whose marks decide whether a point cloud's thin mark stands (itself included).
+constexpr std::size_t kAgreeingNeighbours = 12;
+constexpr double kLeastDepthInSpacings = 2.0;
+
 Vec3 face_normal(const TriangleMesh& m, const std::array<std::int32_t, 3>& t) {
   const Vec3& a = m.vertices[static_cast<std::size_t>(t[0])];
   return (m.vertices[static_cast<std::size_t>(t[1])] - a)
       .cross(m.vertices[static_cast<std::size_t>(t[2])] - a);
+}
+
+// Whether the ball of radius t touching the surface at p from the side `in` (unit) leaves the surface
+// closer than 0.9 t for t at 1/4, 1/2, 3/4 and 1 of `radius` (those at least `least_t`): a part
+// thinner than 2 radius there.
+bool thin_along(const Surface& surface, const Vec3& p, const Vec3& in, double radius, double least_t = 0.0) {
+  // The deepest point first: the distance is 1-Lipschitz, so d(p_s) >= d(p_1) - (1 - s) radius, and
+  // where that clears 0.9 s radius for every s (d(p_1) >= 0.98 radius: most of a surface that is not
+  // thin), the other three queries cannot find the part thin. Same answer, a third of the queries.
+  const double deepest = surface.distance(p + radius * in);
+  if (deepest < 0.9 * radius) return true;
+  if (deepest >= 0.98 * radius) return false;
+  for (double share : {0.25, 0.5, 0.75}) {
+    const double t = share * radius;
+    if (t >= least_t && surface.distance(p + t * in) < 0.9 * t) return true;
+  }
+  return false;
+}
+
+// The marks grown by `margin`: points within it of a thin one, where a hole centred would reach into the
+// thin part.
+std::vector<double> grow_marks(std::span<const Vec3> points, const std::vector<double>& thin, double margin) {
+  if (margin <= 0.0) return thin;
+  std::vector<Vec3> marked;
+  for (std::size_t v = 0; v < thin.size(); ++v)
+    if (thin[v] > 0.0) marked.push_back(points[v]);
+  if (marked.empty()) return thin;
+  const PointTree tree(marked);
+  std::vector<double> grown(thin.size(), 0.0);
+  tbb::parallel_for(std::size_t{0}, points.size(),
+                    [&](std::size_t v) { grown[v] = tree.nearest(points[v]).second <= margin ? 1.0 : 0.0; });
+  return grown;
 }
 
 std::vector<double> thin_vertices(const TriangleMesh& mesh, const Surface& surface, const FeatureOptions& o) {
@@ -30,40 +66,13 @@ std::vector<double> thin_vertices(const TriangleMesh& mesh, const Surface& surfa
     volume += mesh.vertices[static_cast<std::size_t>(t[0])].dot(n) / 6.0;
   }
   const double inward = volume >= 0.0 ? -1.0 : 1.0;
-  const double radius = 0.5 * o.thin_below;
   std::vector<double> thin(mesh.vertices.size(), 0.0);
   tbb::parallel_for(std::size_t{0}, mesh.vertices.size(), [&](std::size_t v) {
-    if (!(normal[v].squaredNorm() > 0.0)) return;
-    const Vec3 in = inward * normal[v].normalized();
-    // The deepest point first: the distance is 1-Lipschitz, so d(p_s) >= d(p_1) - (1 - s) radius, and
-    // where that clears 0.9 s radius for every s (d(p_1) >= 0.98 radius: most of a surface that is not
-    // thin), the other three queries cannot find the part thin. Same answer, a third of the queries.
-    const double deepest = surface.distance(mesh.vertices[v] + radius * in);
-    if (deepest < 0.9 * radius) {
+    if (normal[v].squaredNorm() > 0.0 &&
+        thin_along(surface, mesh.vertices[v], inward * normal[v].normalized(), 0.5 * o.thin_below))
       thin[v] = 1.0;
-      return;
-    }
-    if (deepest >= 0.98 * radius) return;
-    for (double share : {0.25, 0.5, 0.75}) {
-      const double t = share * radius;
-      if (surface.distance(mesh.vertices[v] + t * in) < 0.9 * t) {
-        thin[v] = 1.0;
-        return;
-      }
-    }
   });
-  if (o.margin <= 0.0) return thin;
-  // Vertices within the margin of a thin one: a hole centred there would reach into the thin part.
-  std::vector<Vec3> marked;
-  for (std::size_t v = 0; v < thin.size(); ++v)
-    if (thin[v] > 0.0) marked.push_back(mesh.vertices[v]);
-  if (marked.empty()) return thin;
-  const PointTree tree(marked);
-  std::vector<double> grown(thin.size(), 0.0);
-  tbb::parallel_for(std::size_t{0}, mesh.vertices.size(), [&](std::size_t v) {
-    grown[v] = tree.nearest(mesh.vertices[v]).second <= o.margin ? 1.0 : 0.0;
-  });
-  return grown;
+  return grow_marks(mesh.vertices, thin, o.margin);
 }
 
 // Sharp edges (dihedral above the angle, both faces present), kept where they chain through shared
@@ -123,6 +132,35 @@ std::vector<std::array<Vec3, 2>> crease_segments(const TriangleMesh& mesh, const
 }
 
 }  // namespace
+
+std::vector<double> thin_points(std::span<const Vec3> points, std::span<const Vec3> normals,
+                                std::span<const double> spacing, const Surface& surface,
+                                const FeatureOptions& options) {
+  std::vector<double> thin(points.size(), 0.0);
+  if (!(options.thin_below > 0.0)) return thin;
+  const double radius = 0.5 * options.thin_below;
+  tbb::parallel_for(std::size_t{0}, points.size(), [&](std::size_t v) {
+    const Vec3& n = normals[v];
+    // Within a few spacings of the point its neighbours' splats, tilted by their normals' noise, come
+    // closer than 0.9 t (a third of the bunny's points looked thin): depths from twice the spacing on.
+    const double least_t = kLeastDepthInSpacings * spacing[v];
+    if (n.squaredNorm() > 0.0 && (thin_along(surface, points[v], n, radius, least_t) ||
+                                  thin_along(surface, points[v], -n, radius, least_t)))
+      thin[v] = 1.0;
+  });
+  // A scan's stray points carry splats off the surface that make the points near them look thin; a
+  // thin part's points are thin together. Keep a mark only where most of its neighbours have one.
+  const PointTree tree(std::vector<Vec3>(points.begin(), points.end()));
+  std::vector<double> kept(points.size(), 0.0);
+  tbb::parallel_for(std::size_t{0}, points.size(), [&](std::size_t v) {
+    if (thin[v] == 0.0) return;
+    const std::vector<std::size_t> near = tree.k_nearest(points[v], kAgreeingNeighbours);
+    std::size_t agree = 0;
+    for (const std::size_t u : near) agree += thin[u] > 0.0 ? 1 : 0;
+    kept[v] = 2 * agree > near.size() ? 1.0 : 0.0;
+  });
+  return grow_marks(points, kept, options.margin);
+}
 
 SurfaceFeatures find_surface_features(const TriangleMesh& mesh, const Surface& surface,
                                       const FeatureOptions& options) {

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "geometry/mesh.hpp"
@@ -33,5 +34,13 @@ struct FeatureOptions {
 // thin_below / 2. Needs outward-oriented triangles (an inward mesh is turned by its signed volume).
 SurfaceFeatures find_surface_features(const TriangleMesh& mesh, const Surface& surface,
                                       const FeatureOptions& options);
+
+// The thickness test on a point cloud, whose normals have no side: a point is marked where the ball
+// finds the surface on either side, then the marks are grown by the margin (1 or 0 per point). Besides
+// thin parts this marks grooves narrower than the ball, where a hole would be cut by the facing surface.
+// `spacing`: per point, the distance to its neighbours (the splats' radii).
+std::vector<double> thin_points(std::span<const Vec3> points, std::span<const Vec3> normals,
+                                std::span<const double> spacing, const Surface& surface,
+                                const FeatureOptions& options);
 
 }  // namespace poreshell

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <limits>
 #include <optional>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -34,6 +35,9 @@ class SplatSurface final : public Surface {
   std::string name() const override { return "point splats"; }
 
   std::size_t size() const { return points_.size(); }
+  std::span<const Vec3> points() const { return points_; }
+  std::span<const Vec3> normals() const { return normals_; }  // unit, of either side
+  std::span<const double> radii() const { return radii_; }
   const Vec3& normal(std::size_t i) const { return normals_[i]; }
   double radius(std::size_t i) const { return radii_[i]; }
 

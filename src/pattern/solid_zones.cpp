@@ -4,7 +4,9 @@
 
 #include <memory>
 
+#include "geometry/point_tree.hpp"
 #include "input/features.hpp"
+#include "input/point_cloud.hpp"
 #include "input/vertex_field.hpp"
 
 #include <algorithm>
@@ -138,14 +140,26 @@ std::vector<double> solid_zones(const Options& c, const PlacedSurface& placed, c
 
 FeatureZones feature_zones(const Options& c, PlacedSurface& placed, double hole_diameter_mm) {
   FeatureZones zones;
-  if (!placed.mesh || !(hole_diameter_mm > 0.0) || (c.thin_feature_ratio <= 0.0 && c.crease_angle <= 0.0))
-    return zones;
+  if (!(hole_diameter_mm > 0.0) || (c.thin_feature_ratio <= 0.0 && c.crease_angle <= 0.0)) return zones;
   const double hole = hole_diameter_mm / placed.mm_per_grid();
   FeatureOptions o;
   o.thin_below = c.thin_feature_ratio * hole;
   o.margin = 0.5 * hole;  // a hole centred nearer would reach into the thin part
   o.crease_degrees = c.crease_angle;
   o.min_crease_length = hole;
+  // A point cloud (the direct route's splats): thin parts from its points, each voxel taking its nearest
+  // point's mark; it has no edges to find creases on.
+  if (const auto* splats = dynamic_cast<const SplatSurface*>(placed.surface.get())) {
+    std::vector<double> thin = thin_points(splats->points(), splats->normals(), splats->radii(), *splats, o);
+    placed.input.thin_vertices = static_cast<std::int64_t>(std::count(thin.begin(), thin.end(), 1.0));
+    if (placed.input.thin_vertices > 0) {
+      auto tree = std::make_shared<const PointTree>(
+          std::vector<Vec3>(splats->points().begin(), splats->points().end()));
+      zones.thin = [tree, marks = std::move(thin)](const Vec3& x) { return marks[tree->nearest(x).first]; };
+    }
+    return zones;
+  }
+  if (!placed.mesh) return zones;
   SurfaceFeatures f = find_surface_features(*placed.mesh, *placed.surface, o);
   placed.input.thin_vertices = f.thin_vertices;
   placed.input.crease_edges = f.crease_edges;

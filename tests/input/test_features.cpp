@@ -8,6 +8,7 @@
 
 #include "geometry/mesh_surface.hpp"
 #include "input/features.hpp"
+#include "input/point_cloud.hpp"
 
 using namespace poreshell;
 
@@ -58,6 +59,31 @@ TEST(Features, ASlabThinnerThanTheLimitIsThinAThickBlockIsNot) {
           (p.z() == 0 || p.z() == mesh->vertices.back().z())) {
         ++centre;
         centre_marked += f.thin[v] > 0 ? 1 : 0;
+      }
+    }
+    ASSERT_GT(centre, 0);
+    EXPECT_EQ(centre_marked, thin ? centre : 0) << (thin ? "slab" : "block");
+  }
+}
+
+// The same on a point cloud (the boxes' vertices as splats, their normals without a side): the slab's
+// points are thin, the block's are not, although each point's neighbours lie within the ball's first
+// depth (spacing 2.5, least depth 1.5): the test starts at twice the spacing.
+TEST(Features, PointsOfASlabAreThinThoseOfAThickBlockAreNot) {
+  FeatureOptions o;
+  o.thin_below = 12.0;
+  for (const auto& [mesh, thin] : {std::pair{box(Vec3(0, 0, 0), Vec3(40, 40, 4), 16), true},
+                                   std::pair{box(Vec3(0, 0, 0), Vec3(40, 40, 40), 16), false}}) {
+    const SplatSurface splats(mesh.vertices);
+    const std::vector<double> marks =
+        thin_points(splats.points(), splats.normals(), splats.radii(), splats, o);
+    std::int64_t centre_marked = 0, centre = 0;
+    for (std::size_t v = 0; v < splats.size(); ++v) {
+      const Vec3& p = splats.points()[v];
+      if (std::abs(p.x() - 20) < 10 && std::abs(p.y() - 20) < 10 &&
+          (p.z() == 0 || p.z() == (thin ? 4 : 40))) {
+        ++centre;
+        centre_marked += marks[v] > 0 ? 1 : 0;
       }
     }
     ASSERT_GT(centre, 0);
