@@ -47,14 +47,15 @@ bool holes_in_mm(const Options& o) {
   return o.hole_diameter > 0.0 || o.spacing > 0.0 || o.porosity > 0.0;
 }
 
-// Hole statistics at one level in millimetres.
+// Hole statistics at one level in millimetres. The holes' Voronoi cells cover the free surface only: a
+// hole beside a solid zone (a rim, an ear) would otherwise own the zone's area too.
 HoleStats hole_stats_mm(const NarrowBand& band, std::span<const double> phi, double level,
-                        const PlacedSurface& placed) {
+                        const PlacedSurface& placed, std::span<const double> zone_weight) {
   const double mm_per_grid = placed.mm_per_grid();
   HoleStats s = hole_statistics(band, phi, level);
   std::vector<Vec3> centres;
   for (const BandHole& hole : s.holes) centres.push_back(hole.centre);
-  s.cell_area_cv = cell_area_cv(area_samples(band), centres);
+  s.cell_area_cv = cell_area_cv(area_samples(band, zone_weight), centres);
   for (BandHole& hole : s.holes) {
     hole.centroid = placed.to_mm(hole.centroid);
     hole.centre = placed.to_mm(hole.centre);
@@ -92,12 +93,13 @@ ShellSamples sample_printable_shell(const Options& c, const PlacedSurface& place
 // A preview's output: the surface as a thin slab of the band ({|psi| < h}, closed at the band's grid
 // resolution) with phi at each vertex, and the band's holes.
 void preview_output(double level, const Options& options, const PlacedSurface& placed, const NarrowBand& band,
-                    std::span<const double> phi, PipelineResult& result, RunMonitor& monitor) {
+                    std::span<const double> phi, std::span<const double> zone_weight, PipelineResult& result,
+                    RunMonitor& monitor) {
   monitor.stage("mesh");
   const auto t = std::chrono::steady_clock::now();
   MeshOutput out;
   out.iso = level;
-  out.holes = hole_stats_mm(band, phi, level, placed);
+  out.holes = hole_stats_mm(band, phi, level, placed, zone_weight);
   out.spots_at_iso = static_cast<std::int64_t>(out.holes.holes.size());
   std::vector<HoleDisc> discs;
   for (const BandHole& h : out.holes.holes) discs.push_back({h.centre, h.diameter});
@@ -199,7 +201,7 @@ PipelineResult run_pipeline(const Input& input, const Options& given, RunMonitor
         band, phi, result.plan->level, kLeastHoleShare * result.plan->diameter / placed.mm_per_grid());
   result.spots = spot_statistics(band, phi, 0.0);
   if (options.preview) {
-    preview_output(options.iso.front(), options, placed, band, phi, result, monitor);
+    preview_output(options.iso.front(), options, placed, band, phi, solved.zone_weight, result, monitor);
     result.seconds_total = seconds_since(start);
     result.peak_rss_total = peak_rss_bytes();
     monitor.advance(1.0, {}, 0, true);
@@ -227,7 +229,7 @@ PipelineResult run_pipeline(const Input& input, const Options& given, RunMonitor
   for (double iso : options.iso) {
     MeshOutput out;
     out.iso = iso;
-    out.holes = hole_stats_mm(band, phi, iso, placed);
+    out.holes = hole_stats_mm(band, phi, iso, placed, solved.zone_weight);
     out.spots_at_iso = static_cast<std::int64_t>(out.holes.holes.size());  // every spot is a hole
     result.meshes.push_back(std::move(out));
     monitor.advance(0.65);
@@ -238,6 +240,7 @@ PipelineResult run_pipeline(const Input& input, const Options& given, RunMonitor
       probes.push_back(wall_probes(placed, band, phi, iso, result.solid.wall_mm, options.offset, side.side));
     monitor.advance(0.7);
     phi = {};
+    solved.zone_weight = {};
     band_storage.reset();  // `band` is not used below in shell mode
     release_free_memory();
   }

@@ -148,7 +148,8 @@ SolveResult solve_pattern(const Options& c, const std::optional<PatternPlan>& pl
   // Shares of the stage, from runs of the bunny: with a coarse start its band, set-up, run and carry take
   // about half, the fine set-up a few percent, the fine run the rest.
   const double fine_setup = coarse_grid ? 0.5 : 0.0, fine_steps = fine_setup + 0.05;
-  const std::vector<double> fine_weight = zone_weight(band);
+  result.zone_weight = zone_weight(band);
+  const std::vector<double>& fine_weight = result.zone_weight;
   // A preview of the even layout solves nothing: no noise to start from.
   LevelStart fine_start = level_start(band, fine_weight, !coarse_grid && !(even && c.preview));
   if (even) {

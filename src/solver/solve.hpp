@@ -31,6 +31,7 @@ struct SolveResult {
   StopRule stop_rule = StopRule::paper;     // the rule that ended the run (never automatic)
   Layout layout = Layout::paper;            // never automatic
   std::int64_t layout_holes = 0;            // cvt: the discs the run started from
+  std::vector<double> zone_weight;          // per band voxel, how solid (empty: no zones)
 };
 
 // The rule a run stops by: Options::stop, with automatic resolved (holes for a preview, else the

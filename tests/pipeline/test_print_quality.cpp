@@ -266,6 +266,11 @@ TEST(PrintQuality, ThinStalkOnASphereStaysWholeAndTheSphereKeepsItsHoles) {
       density_factor(options) * lattice_estimate(4 * std::numbers::pi * g.sphere * g.sphere - cap, kSpacing);
   std::printf("sphere part: %zu holes, estimate %.1f\n", on_sphere, estimate);
   EXPECT_NEAR(static_cast<double>(on_sphere), estimate, 0.10 * estimate);
+  // The holes' Voronoi cells cover the free surface: the stalk's zone is nobody's cell (were it the
+  // nearest holes', their cells would be several times the others').
+  const double cell_cv = r.report.outputs.at(0).holes.cell_area_cv;
+  std::printf("cell-area CV %.4f\n", cell_cv);
+  EXPECT_LT(cell_cv, 0.10);
 }
 
 // Issue 19: no hole straddling the edges of a cube with rounded corners, and the count on the faces
