@@ -36,9 +36,10 @@ constexpr double kStlHeaderBytes = 84.0;
 // A preview: the band's slab {|psi| < h} meshed on the band's grid, about 4.8 triangles per band voxel
 // (the bunny, 8 mm holes at 14 mm: 790,948 from 163,539), written as PLY with a colour per vertex
 // (12 + 3 bytes a vertex, 13 a triangle, half as many vertices as triangles: 20.5 bytes a triangle).
-// Its time: no solve, so about linear in the band (docs/benchmarks.md "Estimates").
+// Its time: no solve, about linear in the band: the CLI's wall time, bunny previews of 0.16, 0.38 and
+// 1.26 M estimated band voxels, 2 threads (docs/benchmarks.md "Estimates").
 constexpr double kPreviewTrianglesPerVoxel = 4.84, kPlyBytesPerTriangle = 20.5;
-constexpr double kPreviewSecondsFixed = 0.5, kPreviewSecondsPerVoxel = 6e-6;
+constexpr double kPreviewSecondsFixed = 0.35, kPreviewSecondsPerVoxel = 10.8e-6;
 
 // Thresholds of the warnings: the size a print usually has, and a cost worth a second thought.
 constexpr double kSmallModelMm = 5.0, kLargeModelMm = 3000.0;
