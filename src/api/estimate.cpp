@@ -39,7 +39,7 @@ constexpr double kStlHeaderBytes = 84.0;
 // Its time: no solve, about linear in the band: the CLI's wall time, bunny previews of 0.16, 0.38 and
 // 1.26 M estimated band voxels, 2 threads (docs/benchmarks.md "Estimates").
 constexpr double kPreviewTrianglesPerVoxel = 4.84, kPlyBytesPerTriangle = 20.5;
-constexpr double kPreviewSecondsFixed = 0.35, kPreviewSecondsPerVoxel = 10.8e-6;
+constexpr double kPreviewSecondsFixed = 0.8, kPreviewSecondsPerVoxel = 8.4e-6;
 
 // Thresholds of the warnings: the size a print usually has, and a cost worth a second thought.
 constexpr double kSmallModelMm = 5.0, kLargeModelMm = 3000.0;

@@ -140,13 +140,17 @@ std::vector<Vec3> lloyd_centres(std::vector<Vec3> centres, const AreaSamples& sa
       sum[c] += samples.area[i] * samples.points[i];
       area[c] += samples.area[i];
     }
+    // The projections in parallel (each centre on its own), then the empty cells' centres dropped.
+    std::vector<Vec3> projected(centres.size());
+    tbb::parallel_for(std::size_t{0}, centres.size(), [&](std::size_t c) {
+      if (area[c] <= 0.0) return;
+      const Vec3 target = centres[c] + kOverRelaxation * (sum[c] / area[c] - centres[c]);
+      projected[c] = surface.closest_point(target).value_or(target);
+    });
     std::vector<Vec3> moved;
     moved.reserve(centres.size());
-    for (std::size_t c = 0; c < centres.size(); ++c) {
-      if (area[c] <= 0.0) continue;
-      const Vec3 target = centres[c] + kOverRelaxation * (sum[c] / area[c] - centres[c]);
-      moved.push_back(surface.closest_point(target).value_or(target));
-    }
+    for (std::size_t c = 0; c < centres.size(); ++c)
+      if (area[c] > 0.0) moved.push_back(projected[c]);
     if (moved.size() != centres.size()) cell.clear();  // the indices moved: no hints next time
     centres = std::move(moved);
   }
@@ -254,13 +258,14 @@ std::vector<Vec3> spread_centres(std::vector<Vec3> centres, const AreaSamples& s
     });
     // A move further than kMaxShift from the start, or out of the free area (no sample within `reach`
     // of the moved centre, nor as near as to the centre before), is not taken.
+    // Each centre on its own: parallel, the same on any thread count.
     std::vector<Vec3> next = centres;
-    for (std::size_t m = 0; m < moving.size(); ++m) {
+    tbb::parallel_for(std::size_t{0}, moving.size(), [&](std::size_t m) {
       const std::size_t c = moving[m];
       const Vec3 moved = surface.closest_point(target[m]).value_or(target[m]);
-      if ((moved - start[c]).norm() > kMaxShift * spacing) continue;
+      if ((moved - start[c]).norm() > kMaxShift * spacing) return;
       if (free.nearest(moved).second <= std::max(reach, free.nearest(centres[c]).second)) next[c] = moved;
-    }
+    });
     centres = std::move(next);
   }
   return centres;
@@ -279,15 +284,61 @@ std::vector<Vec3> farthest_point_centres(const AreaSamples& samples, std::size_t
   const double target = total * static_cast<double>(z >> 11) * 0x1.0p-53;
   std::size_t first = 0;
   for (double sum = 0.0; first + 1 < n && (sum += samples.area[first]) < target;) ++first;
+  // The samples in cubes about a hole's spacing wide, each with its box and its farthest sample from the
+  // centres so far (the lowest index among equals, as a scan of all would pick). A new centre updates
+  // only the cubes whose box comes nearer to it than their farthest sample: after the first few centres
+  // a handful each, where every sample was updated before (the bunny at 3 mm holes, 2,000 centres over
+  // 500k samples: a fifth of a single-threaded preview). The same centres as the scan of all samples.
+  const double side = std::sqrt(total / static_cast<double>(count));
+  using Key = std::array<std::int64_t, 3>;
+  std::vector<std::pair<Key, std::size_t>> sorted(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3& p = samples.points[i];
+    sorted[i] = {Key{static_cast<std::int64_t>(std::floor(p.x() / side)),
+                     static_cast<std::int64_t>(std::floor(p.y() / side)),
+                     static_cast<std::int64_t>(std::floor(p.z() / side))},
+                 i};
+  }
+  std::sort(sorted.begin(), sorted.end());
+  struct Cube {
+    std::size_t begin = 0, end = 0;  // into `sorted`
+    Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity());
+    Vec3 hi = -Vec3::Constant(std::numeric_limits<double>::infinity());
+    double farthest = std::numeric_limits<double>::infinity();  // squared distance
+    std::size_t at = 0;  // its sample (the lowest index among equals); set by the first centre's update
+  };
+  std::vector<Cube> cubes;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i == 0 || sorted[i].first != sorted[i - 1].first) cubes.push_back({i, i});
+    Cube& cube = cubes.back();
+    cube.end = i + 1;
+    cube.lo = cube.lo.cwiseMin(samples.points[sorted[i].second]);
+    cube.hi = cube.hi.cwiseMax(samples.points[sorted[i].second]);
+  }
   std::vector<double> dist2(n, std::numeric_limits<double>::infinity());
   std::size_t next = first;
   while (centres.size() < std::min(count, n)) {
     const Vec3 c = samples.points[next];
     centres.push_back(c);
-    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
-      dist2[i] = std::min(dist2[i], (samples.points[i] - c).squaredNorm());
+    tbb::parallel_for(std::size_t{0}, cubes.size(), [&](std::size_t q) {
+      Cube& cube = cubes[q];
+      const double gap2 = (cube.lo - c).cwiseMax(c - cube.hi).cwiseMax(0.0).squaredNorm();
+      if (gap2 > cube.farthest * (1.0 + 1e-9)) return;  // no sample of it comes nearer (rounding slack)
+      cube.farthest = -1.0;
+      for (std::size_t j = cube.begin; j < cube.end; ++j) {
+        const std::size_t i = sorted[j].second;
+        dist2[i] = std::min(dist2[i], (samples.points[i] - c).squaredNorm());
+        if (dist2[i] > cube.farthest || (dist2[i] == cube.farthest && i < cube.at)) {
+          cube.farthest = dist2[i];
+          cube.at = i;
+        }
+      }
     });
-    next = static_cast<std::size_t>(std::max_element(dist2.begin(), dist2.end()) - dist2.begin());
+    const Cube* best = &cubes.front();
+    for (const Cube& cube : cubes)
+      if (cube.farthest > best->farthest || (cube.farthest == best->farthest && cube.at < best->at))
+        best = &cube;
+    next = best->at;
   }
   return centres;
 }
