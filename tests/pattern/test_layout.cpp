@@ -81,6 +81,30 @@ TEST(Layout, LloydGivesTheSameCentresOnAnyThreadCount) {
   for (std::size_t i = 0; i < one.size(); ++i) EXPECT_EQ(one[i], two[i]);
 }
 
+// The farthest-point start skips the samples a new centre cannot come nearer to: it must pick exactly
+// what the plain scan picks (each next centre the sample farthest from those chosen, the lowest index
+// among equals), here over the sphere's samples with duplicates among them, for two seeds.
+TEST(Layout, FarthestPointStartIsThePlainScans) {
+  AreaSamples s = area_samples(band());
+  const std::size_t n = s.points.size();
+  for (std::size_t i = 0; i < n; i += 97) {  // exact ties
+    s.points.push_back(s.points[i]);
+    s.area.push_back(s.area[i]);
+  }
+  for (const std::uint64_t seed : {3u, 11u}) {
+    const std::vector<Vec3> fast = farthest_point_centres(s, 150, seed);
+    ASSERT_EQ(fast.size(), 150u);
+    std::vector<double> dist2(s.points.size(), std::numeric_limits<double>::infinity());
+    Vec3 next = fast.front();  // the seed's first pick is the function's own
+    for (std::size_t k = 0; k < fast.size(); ++k) {
+      ASSERT_EQ(fast[k], next) << "centre " << k << ", seed " << seed;
+      for (std::size_t i = 0; i < dist2.size(); ++i)
+        dist2[i] = std::min(dist2[i], (s.points[i] - next).squaredNorm());
+      next = s.points[static_cast<std::size_t>(std::max_element(dist2.begin(), dist2.end()) - dist2.begin())];
+    }
+  }
+}
+
 TEST(Layout, DiscFieldHasTheMeanAndThePhasesAtAndAwayFromTheCentres) {
   const std::vector<Vec3> centres{kCentre + kRadius * Vec3::UnitZ(), kCentre - kRadius * Vec3::UnitZ()};
   const double epsilon = 0.01, mean = -0.3;
