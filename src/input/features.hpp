@@ -1,8 +1,8 @@
 #pragma once
-// Where a mesh cannot carry a hole: parts thinner than a hole (ears, fingers, claws, tails), where a
+// Where a surface cannot carry a hole: parts thinner than a hole (ears, fingers, claws, tails), where a
 // hole would cut the part into a ring or a notch, and sharp creases, where a hole would straddle the
-// edge as a D. Found on the input mesh, they become solid zones like rims (pattern/solid_zones.hpp),
-// so the pattern arranges itself around them.
+// edge as a D. Found on the input mesh (thin parts also on a point cloud), they become solid zones like
+// rims (pattern/solid_zones.hpp), so the pattern arranges itself around them.
 
 #include <array>
 #include <cstdint>
