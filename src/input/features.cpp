@@ -134,8 +134,8 @@ std::vector<std::array<Vec3, 2>> crease_segments(const TriangleMesh& mesh, const
 }  // namespace
 
 std::vector<double> thin_points(std::span<const Vec3> points, std::span<const Vec3> normals,
-                                std::span<const double> spacing, const Surface& surface,
-                                const FeatureOptions& options) {
+                                std::span<const double> spacing, const PointTree& tree,
+                                const Surface& surface, const FeatureOptions& options) {
   std::vector<double> thin(points.size(), 0.0);
   if (!(options.thin_below > 0.0)) return thin;
   const double radius = 0.5 * options.thin_below;
@@ -150,7 +150,6 @@ std::vector<double> thin_points(std::span<const Vec3> points, std::span<const Ve
   });
   // A scan's stray points carry splats off the surface that make the points near them look thin; a
   // thin part's points are thin together. Keep a mark only where most of its neighbours have one.
-  const PointTree tree(std::vector<Vec3>(points.begin(), points.end()));
   std::vector<double> kept(points.size(), 0.0);
   tbb::parallel_for(std::size_t{0}, points.size(), [&](std::size_t v) {
     if (thin[v] == 0.0) return;

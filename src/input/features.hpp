@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "geometry/mesh.hpp"
+#include "geometry/point_tree.hpp"
 #include "geometry/surface.hpp"
 
 namespace poreshell {
@@ -38,9 +39,10 @@ SurfaceFeatures find_surface_features(const TriangleMesh& mesh, const Surface& s
 // The thickness test on a point cloud, whose normals have no side: a point is marked where the ball
 // finds the surface on either side, then the marks are grown by the margin (1 or 0 per point). Besides
 // thin parts this marks grooves narrower than the ball, where a hole would be cut by the facing surface.
-// `spacing`: per point, the distance to its neighbours (the splats' radii).
+// `spacing`: per point, the distance to its neighbours (the splats' radii); `tree`: over `points`, in
+// their order (the caller keeps it for looking marks up).
 std::vector<double> thin_points(std::span<const Vec3> points, std::span<const Vec3> normals,
-                                std::span<const double> spacing, const Surface& surface,
-                                const FeatureOptions& options);
+                                std::span<const double> spacing, const PointTree& tree,
+                                const Surface& surface, const FeatureOptions& options);
 
 }  // namespace poreshell

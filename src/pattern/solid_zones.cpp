@@ -150,13 +150,14 @@ FeatureZones feature_zones(const Options& c, PlacedSurface& placed, double hole_
   // A point cloud (the direct route's splats): thin parts from its points, each voxel taking its nearest
   // point's mark; it has no edges to find creases on.
   if (const auto* splats = dynamic_cast<const SplatSurface*>(placed.surface.get())) {
-    std::vector<double> thin = thin_points(splats->points(), splats->normals(), splats->radii(), *splats, o);
+    // One tree over the points: the test's neighbours, then each voxel's nearest point.
+    auto tree = std::make_shared<const PointTree>(
+        std::vector<Vec3>(splats->points().begin(), splats->points().end()));
+    std::vector<double> thin =
+        thin_points(splats->points(), splats->normals(), splats->radii(), *tree, *splats, o);
     placed.input.thin_vertices = static_cast<std::int64_t>(std::count(thin.begin(), thin.end(), 1.0));
-    if (placed.input.thin_vertices > 0) {
-      auto tree = std::make_shared<const PointTree>(
-          std::vector<Vec3>(splats->points().begin(), splats->points().end()));
+    if (placed.input.thin_vertices > 0)
       zones.thin = [tree, marks = std::move(thin)](const Vec3& x) { return marks[tree->nearest(x).first]; };
-    }
     return zones;
   }
   if (!placed.mesh) return zones;

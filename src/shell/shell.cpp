@@ -35,14 +35,7 @@ struct Sample {
 }  // namespace
 
 std::string to_string(WallOffset offset) {
-  switch (offset) {
-    case WallOffset::inside:
-      return "inside";
-    case WallOffset::outside:
-      return "outside";
-    default:
-      return "centered";
-  }
+  return std::string(name_of(offset));
 }
 
 double interpolate_band(const NarrowBand& band, std::span<const double> phi, const Vec3& p, bool* complete) {

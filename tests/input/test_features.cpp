@@ -76,7 +76,8 @@ TEST(Features, PointsOfASlabAreThinThoseOfAThickBlockAreNot) {
                                    std::pair{box(Vec3(0, 0, 0), Vec3(40, 40, 40), 16), false}}) {
     const SplatSurface splats(mesh.vertices);
     const std::vector<double> marks =
-        thin_points(splats.points(), splats.normals(), splats.radii(), splats, o);
+        thin_points(splats.points(), splats.normals(), splats.radii(),
+                    PointTree(std::vector<Vec3>(splats.points().begin(), splats.points().end())), splats, o);
     std::int64_t centre_marked = 0, centre = 0;
     for (std::size_t v = 0; v < splats.size(); ++v) {
       const Vec3& p = splats.points()[v];
