@@ -57,8 +57,8 @@ void add_stop_flags(CLI::App& app, poreshell::Options& options) {
                "stopped as soon as the hole layout has settled");
   app.add_option(
          "--stop", options.stop,
-         "when the run ends: paper (e_c < --tol; the default) or holes (the hole count and boundaries "
-         "have settled; the default of --preview, faster, the layout may still glide a little)")
+         "when the run ends: holes (the hole count, centres and boundaries have settled; the default "
+         "with --layout cvt and for --preview) or paper (e_c < --tol; the default with --layout paper)")
       ->transform(one_of(kStopRules))
       ->default_str("auto");
   app.add_option("--layout", options.layout,

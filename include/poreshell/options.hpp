@@ -27,7 +27,7 @@ enum class SolverKind {
 enum class InnerIteration { gauss_seidel, jacobi };  // the reference solver's relaxation
 // When the run to steady state ends (docs/solver.md "Stop rules").
 enum class StopRule {
-  automatic,  // holes for a preview, else paper (the holes rule's layout still moves: docs/solver.md)
+  automatic,  // holes for a preview and the cvt layout, else paper (docs/solver.md "Stop rules")
   paper,      // the paper's: the consecutive change e_c < tolerance
   holes,      // the hole layout has settled: count, centres and boundaries still over a window of steps
 };

@@ -34,9 +34,9 @@ struct SolveResult {
   std::vector<double> zone_weight;          // per band voxel, how solid (empty: no zones)
 };
 
-// The rule a run stops by: Options::stop, with automatic resolved (holes for a preview, else the
-// paper's).
-StopRule resolve_stop_rule(const Options& options);
+// The rule a run stops by: Options::stop, with automatic resolved (holes for a preview and for the
+// even layout, else the paper's).
+StopRule resolve_stop_rule(const Options& options, Layout layout);
 
 // The layout a run makes: Options::layout, with automatic resolved (cvt for holes in mm).
 Layout resolve_layout(const Options& options, bool holes_in_mm);

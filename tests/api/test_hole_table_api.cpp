@@ -104,7 +104,8 @@ TEST(HoleTablePipeline, OneRecordPerPoreOfASphere) {
 }
 
 // An open sheet, its wall outside the surface: the spots the edge cuts are notches, not pores, and
-// measure no closed loop.
+// measure no closed loop. Most are closed before meshing as pinholes (under 0.76 D by their band area);
+// seeds 1-5 leave 0, 0, 0, 1 and 0 notches, so seed 4 is taken for the table to have one to drop.
 TEST(HoleTablePipeline, OneRecordPerPoreOfAnOpenHemisphere) {
   MeshInput hemisphere;
   hemisphere.mesh = upper_hemisphere(25.0, 48, 192);
@@ -116,6 +117,7 @@ TEST(HoleTablePipeline, OneRecordPerPoreOfAnOpenHemisphere) {
   c.thin_feature_ratio = 0.0;  // the sheet is a surface, not a thin part: measure every pore
   c.crease_angle = 0.0;
   c.layout = Layout::paper;  // its spots cut by the edge are the notches the table must drop (cvt has none)
+  c.seed = 4;
   const Result r = perforate(hemisphere, c);
   const LevelReport& out = r.report.outputs.at(0);
   const std::vector<Hole>& holes = r.outputs.at(0).holes;

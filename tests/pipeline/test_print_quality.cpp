@@ -31,6 +31,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <map>
 #include <numbers>
 #include <vector>
@@ -354,4 +355,22 @@ TEST(PrintQuality, OpenSleeveIsOnePart) {
   const Result r = perforate(input, options);
   expect_one_part(r, "sleeve");
   EXPECT_GT(r.outputs[0].holes.size(), 100u);  // 2 pi 35 x 94 mm of free surface: about 130
+}
+
+// Issue 19 on the bundled scan, as a user runs it (6 mm holes at 10 mm, 2 mm wall, defaults): one part,
+// and every hole whole: none narrower than 0.7 of the request on the written mesh, none pinched. Seeds
+// 1-3 measured 4.30-5.04 mm and circularity 0.865-0.951 at the least. It fails if the run stops by the
+// paper's rule from the even layout (seed 1: two discs still merging at step 30, a figure-eight hole
+// of circularity 0.48), or if spots are closed by their band area at 0.7 D (loops down to 4.18 mm).
+TEST(PrintQuality, BunnyScanHolesAreWhole) {
+  const MeshInput bunny =
+      load_mesh(std::filesystem::path(PORESHELL_DATA_DIR) / "stanford-bunny.obj", Unit::m);
+  const Result r = perforate(bunny, holes_options());
+  expect_one_part(r, "bunny");
+  const std::vector<Hole>& holes = r.outputs[0].holes;
+  ASSERT_GT(holes.size(), 350u);  // 415 measured
+  for (const Hole& h : holes) {
+    EXPECT_GE(h.diameter, 0.7 * kHole) << h.centre[0] << ", " << h.centre[1] << ", " << h.centre[2];
+    EXPECT_GE(h.circularity, 0.8) << h.centre[0] << ", " << h.centre[1] << ", " << h.centre[2];
+  }
 }
