@@ -311,7 +311,7 @@ std::optional<Command> parse_command_line(int argc, const char* const* argv) {
                "keep specks and sealed voids under 1% of the largest part's volume (removed by default)");
 
   app.add_option("--holes", holes_csv,
-                 "write the hole table (centre, normal, diameter, circularity, nearest) as CSV")
+                 "write the hole table (centre, normal, diameter, circularity, nearest, axis ratio) as CSV")
       ->type_name("OUT.csv");
   app.add_option("--html", html, "write the interactive viewer: one self-contained page, opens offline")
       ->type_name("OUT.html");

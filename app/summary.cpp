@@ -2,6 +2,7 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -147,14 +148,19 @@ void print_summary(const poreshell::Options& c, const poreshell::Report& r,
                  m.wall.probes);
     fmt::print("\n");
     if (i < outputs.size() && !outputs[i].holes.empty() && !r.preview) {
-      double circularity = 0.0, diameter = 0.0;
+      double circularity = 0.0, diameter = 0.0, least_diameter = 1e300, least_axis_ratio = 1.0;
       for (const poreshell::Hole& h : outputs[i].holes) {
         circularity += h.circularity;
         diameter += h.diameter;
+        least_diameter = std::min(least_diameter, h.diameter);
+        least_axis_ratio = std::min(least_axis_ratio, h.axis_ratio);
       }
       const auto n = static_cast<double>(outputs[i].holes.size());
-      fmt::print("  on mesh  {} holes at mid-wall, diameter {:.4g} mm, circularity {:.3f}\n",
-                 outputs[i].holes.size(), diameter / n, circularity / n);
+      fmt::print(
+          "  on mesh  {} holes at mid-wall, diameter {:.4g} mm (least {:.3g}), circularity {:.3f}, least "
+          "axis "
+          "ratio {:.2f}\n",
+          outputs[i].holes.size(), diameter / n, least_diameter, circularity / n, least_axis_ratio);
     }
     // What the zones asked for, as measured on the holes.
     if (c.rim > 0.0 && !std::isnan(m.zones.rim))

@@ -3,6 +3,9 @@
 
 Usage: bench/hole_axes.py OUT.stl HOLES.csv [--worst K]
 
+The hole table has its own axis_ratio column, from the loop it cuts along the wall's middle; this is
+the check on it with a plain plane cut.
+
 For each of the K holes of least circularity in HOLES.csv (`--holes`), cuts the binary STL by the
 plane through the hole's centre normal to its normal, chains the cut's segments within 8 mm into
 closed loops, takes the smallest loop that winds around the centre and reports its equivalent
@@ -96,7 +99,9 @@ def main():
     parser.add_argument("--worst", type=int, default=20)
     args = parser.parse_args()
     triangles = read_binary_stl(args.mesh)
-    holes = np.genfromtxt(args.holes, delimiter=",", skip_header=1).reshape(-1, 9)
+    columns = open(args.holes).readline().strip().split(",")
+    holes = np.genfromtxt(args.holes, delimiter=",", skip_header=1).reshape(-1, len(columns))
+    table_ratio = columns.index("axis_ratio") if "axis_ratio" in columns else None
     near = cKDTree(triangles.mean(axis=1))
     ratios = []
     for i in np.argsort(holes[:, 7])[: args.worst]:
@@ -108,8 +113,9 @@ def main():
             continue
         area, ratio = min(area_and_axis_ratio(l) for l in loops)
         ratios.append(ratio)
-        print(f"hole {i:4d} at {centre.round(2)}: table d {holes[i, 6]:.2f} circ {holes[i, 7]:.3f}; "
-              f"cut d {2 * np.sqrt(area / np.pi):.2f} axis ratio {ratio:.3f}")
+        table = f" axis ratio {holes[i, table_ratio]:.3f}" if table_ratio is not None else ""
+        print(f"hole {i:4d} at {centre.round(2)}: table d {holes[i, 6]:.2f} circ {holes[i, 7]:.3f}{table}; "
+              f"plane cut d {2 * np.sqrt(area / np.pi):.2f} axis ratio {ratio:.3f}")
     if ratios:
         print(f"{len(ratios)} of the {args.worst} least circular holes cut; least axis ratio {min(ratios):.3f}")
 

@@ -16,7 +16,7 @@
   const report = data.report || {};
   const meshReport = report.mesh || {};
 
-  const HOLE_STRIDE = 9;  // centre x y z, normal x y z, diameter, circularity, nearest neighbour
+  const HOLE_STRIDE = 10;  // centre x y z, normal x y z, diameter, circularity, nearest neighbour, axis ratio
   const holeValues = data.holes.count > 0 ? floats(data.holes.data) : new Float32Array(0);
   const holes = [];
   for (let i = 0; i < data.holes.count; ++i) {
@@ -25,7 +25,7 @@
     if (normal.lengthSq() > 0) normal.normalize();
     holes.push({
       index: i, centre: new THREE.Vector3(v[0], v[1], v[2]), normal: normal,
-      diameter: v[6], circularity: v[7], nearest: v[8],
+      diameter: v[6], circularity: v[7], nearest: v[8], axisRatio: v[9],
     });
   }
 
@@ -400,6 +400,7 @@
     row(list, 'Diameter', mm(h.diameter)).id = 'sel-diameter';
     row(list, finite(requestedDiameter) ? 'vs request' : 'vs mean', (dev >= 0 ? '+' : '') + pct(dev));
     row(list, 'Circularity', fmt(h.circularity, 3));
+    row(list, 'Axis ratio', fmt(h.axisRatio, 3));
     row(list, 'Nearest hole', mm(h.nearest));
     row(list, 'Centre', [h.centre.x, h.centre.y, h.centre.z].map((c) => c.toFixed(2)).join(', '));
     selection.dataset.hole = String(h.index);

@@ -22,6 +22,7 @@ struct Hole {
   double diameter = 0.0;     // mm, sqrt(4 A / pi) of the cross-section's area A
   double circularity = 0.0;  // 4 pi A / P^2 (1 for a circle)
   double nearest = 0.0;      // mm, to the nearest other hole's centre (0 when alone)
+  double axis_ratio = 0.0;   // minor over major axis of the cross-section (b / a for an ellipse; 1 round)
 };
 
 struct TopologyReport {

@@ -51,6 +51,7 @@ HOLE_DTYPE = np.dtype(
         ("diameter", np.float64),  # mm, sqrt(4 A / pi) of the mid-wall cross-section's area A
         ("circularity", np.float64),  # 4 pi A / P^2 (1 for a circle)
         ("nearest", np.float64),  # mm, to the nearest other hole's centre (0 when alone)
+        ("axis_ratio", np.float64),  # minor over major axis of the cross-section (1 round)
     ]
 )
 
@@ -212,7 +213,8 @@ class Output:
 
     iso: the pore level; vertices: (n, 3) float64 in mm (the input's frame); faces: (m, 3) int32,
     counter-clockwise seen from outside (closed, manifold, oriented); holes: structured array of
-    HOLE_DTYPE (fields centre (n, 3) mm, normal (n, 3), diameter mm, circularity, nearest mm).
+    HOLE_DTYPE (fields centre (n, 3) mm, normal (n, 3), diameter mm, circularity, nearest mm,
+    axis_ratio).
     """
 
     def __init__(self, level):

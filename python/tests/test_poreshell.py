@@ -68,6 +68,17 @@ def test_result_fields(small):
     assert len(small.outputs) == 1 and small.iso == 0.0
 
 
+def test_hole_table_of_a_millimetre_request():
+    """Each hole measured on the written mesh: about the asked size, round, as a numpy record."""
+    r = poreshell.perforate(poreshell.sphere(30), hole_diameter=6, spacing=10, wall=2)
+    holes = r.holes
+    assert len(holes) > 80  # 105 on a bare sphere of 30 mm (tests/pipeline/test_print_quality.cpp)
+    assert abs(holes["diameter"].mean() - 6) < 0.3
+    assert np.allclose(np.linalg.norm(holes["centre"], axis=1), 30, atol=1.5)
+    # Round pores on a sphere: the cross-sections' axes within a quarter of each other.
+    assert (holes["axis_ratio"] > 0.75).all() and (holes["axis_ratio"] <= 1.0).all()
+
+
 @pytest.mark.parametrize(
     "vertices, faces, match",
     [

@@ -51,13 +51,15 @@ Result perforate(const Input& input, const Options& options, const RunControl& c
                                  {h.normal.x(), h.normal.y(), h.normal.z()},
                                  h.diameter,
                                  0.0,
-                                 h.nearest});
+                                 h.nearest,
+                                 0.0});
         for (const HoleRecord& h : level.hole_table.holes)
           out.holes.push_back({{h.centre.x(), h.centre.y(), h.centre.z()},
                                {h.normal.x(), h.normal.y(), h.normal.z()},
                                h.diameter,
                                h.circularity,
-                               h.nearest});
+                               h.nearest,
+                               h.axis_ratio});
         result.outputs.push_back(std::move(out));
       }
     });

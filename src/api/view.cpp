@@ -70,7 +70,7 @@ void save_html(const std::filesystem::path& path, const Result& result, const Op
   data.mesh = reduce_for_display(mesh, view.max_triangles);
   if (!out.pattern.empty()) data.pattern = display_pattern(mesh, data.mesh, out.pattern, out.iso);
   for (const Hole& h : out.holes)
-    data.holes.push_back({vec(h.centre), vec(h.normal), h.diameter, h.circularity, h.nearest});
+    data.holes.push_back({vec(h.centre), vec(h.normal), h.diameter, h.circularity, h.nearest, h.axis_ratio});
   if (result.report.plan) data.requested_diameter_mm = result.report.plan->diameter;
   data.rim_width_mm = options.rim;
   if (options.rim > 0.0) data.rim_loops = boundary_lines(input);

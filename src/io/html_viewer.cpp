@@ -103,13 +103,14 @@ nlohmann::json page_data(const ViewerData& data) {
   std::string pattern;
   pattern.reserve(4 * data.pattern.size());
   for (const float p : data.pattern) append_f32(pattern, p);
-  // Nine floats a hole, in the order viewer.js reads them.
+  // Ten floats a hole, in the order viewer.js reads them.
   for (const ViewerHole& h : data.holes) {
     append_f32(holes, h.centre);
     append_f32(holes, h.normal);
     append_f32(holes, h.diameter_mm);
     append_f32(holes, h.circularity);
     append_f32(holes, h.nearest_neighbour_mm);
+    append_f32(holes, h.axis_ratio);
   }
   json spheres = json::array(), boxes = json::array(), rims = json::array();
   for (const ViewerSphere& s : data.keep_out_spheres)

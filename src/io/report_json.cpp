@@ -131,6 +131,7 @@ json to_json(std::span<const Hole> holes) {
                      {"normal", h.normal},
                      {"diameter", h.diameter},
                      {"circularity", h.circularity},
+                     {"axis_ratio", h.axis_ratio},
                      {"nearest", h.nearest}});
   return table;
 }

@@ -260,7 +260,8 @@ struct Loop {
   double area = 0.0;  // signed: positive counter-clockwise seen from the normal's tip
   double perimeter = 0.0;
   Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
-  int winding = 0;  // winding number of the loop about the seed
+  Eigen::Matrix2d moments = Eigen::Matrix2d::Zero();  // of the area about the centroid, signed as `area`
+  int winding = 0;                                    // winding number of the loop about the seed
 };
 
 Loop measure_loop(const std::vector<Eigen::Vector2d>& p) {
@@ -272,6 +273,10 @@ Loop measure_loop(const std::vector<Eigen::Vector2d>& p) {
     const double cross = a.x() * b.y() - a.y() * b.x();
     twice_area += cross;
     loop.centroid += (a + b) * cross;
+    // Green's theorem per edge: the integrals of x^2, y^2 and xy over the area, times 12, 12 and 24.
+    loop.moments(0, 0) += (a.x() * a.x() + a.x() * b.x() + b.x() * b.x()) * cross;
+    loop.moments(1, 1) += (a.y() * a.y() + a.y() * b.y() + b.y() * b.y()) * cross;
+    loop.moments(0, 1) += (a.x() * b.y() + 2.0 * a.x() * a.y() + 2.0 * b.x() * b.y() + b.x() * a.y()) * cross;
     loop.perimeter += (b - a).norm();
     // Sunday's winding number about the origin: upward crossings with the origin on the left count +1,
     // downward ones with it on the right -1.
@@ -284,6 +289,11 @@ Loop measure_loop(const std::vector<Eigen::Vector2d>& p) {
   loop.area = 0.5 * twice_area;
   loop.centroid =
       twice_area != 0.0 ? Eigen::Vector2d(loop.centroid / (3.0 * twice_area)) : Eigen::Vector2d::Zero();
+  loop.moments(0, 0) /= 12.0;
+  loop.moments(1, 1) /= 12.0;
+  loop.moments(0, 1) /= 24.0;
+  loop.moments -= loop.area * loop.centroid * loop.centroid.transpose();  // about the centroid
+  loop.moments(1, 0) = loop.moments(0, 1);
   return loop;
 }
 
@@ -298,6 +308,10 @@ HoleRecord record_of(const Loop& loop, const Vec3& centre, const Vec3& normal) {
   r.normal = normal;
   r.diameter = std::sqrt(4.0 * loop.area / std::numbers::pi);
   r.circularity = 4.0 * std::numbers::pi * loop.area / (loop.perimeter * loop.perimeter);
+  // The principal second moments of an ellipse's area are in the ratio (b / a)^2.
+  const Eigen::Vector2d principal =
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(loop.moments).eigenvalues();
+  r.axis_ratio = principal(1) > 0.0 ? std::sqrt(std::max(principal(0), 0.0) / principal(1)) : 0.0;
   return r;
 }
 

@@ -24,6 +24,7 @@ inline ViewerData viewer_test_data(int holes = 40) {
     h.normal = n;
     h.diameter_mm = 6.0 * (1.0 + 0.2 * std::sin(1.7 * i));
     h.circularity = 0.9 + 0.1 * std::cos(i);
+    h.axis_ratio = 0.8 + 0.2 * std::sin(0.3 * i);
     data.holes.push_back(h);
   }
   for (ViewerHole& h : data.holes) {

@@ -143,7 +143,7 @@ TEST(HoleTable, CircularHoleGivesThePolygonsDiameterAndCircularityNearOne) {
   }
 }
 
-TEST(HoleTable, EllipticalAndSquareHolesGiveTheirShapesCircularity) {
+TEST(HoleTable, EllipticalAndSquareHolesGiveTheirShapesCircularityAndAxisRatio) {
   // Ellipse 4 x 2: A = pi a b, P by Ramanujan's second formula (error far below the polygon's).
   const double a = 4, b = 2, h = (a - b) * (a - b) / ((a + b) * (a + b));
   const double ellipse_perimeter = std::numbers::pi * (a + b) * (1 + 3 * h / (10 + std::sqrt(4 - 3 * h)));
@@ -154,11 +154,13 @@ TEST(HoleTable, EllipticalAndSquareHolesGiveTheirShapesCircularity) {
   ASSERT_EQ(e.holes.size(), 1u);
   EXPECT_NEAR(e.holes[0].circularity, ellipse_circularity, 1e-3);
   EXPECT_NEAR(e.holes[0].diameter, 2 * std::sqrt(a * b), 1e-3);
+  EXPECT_NEAR(e.holes[0].axis_ratio, b / a, 1e-3);
 
   const HoleTable s = measure_holes(washer(square(2.0, 16)), std::span(&seed, 1));
   ASSERT_EQ(s.holes.size(), 1u);
   EXPECT_NEAR(s.holes[0].circularity, std::numbers::pi / 4, 1e-9);
   EXPECT_NEAR(s.holes[0].diameter, std::sqrt(4 * 16 / std::numbers::pi), 1e-9);
+  EXPECT_NEAR(s.holes[0].axis_ratio, 1.0, 1e-9);  // a square's second moments are equal in every direction
 }
 
 // A seed in the solid, beside the hole or beyond the plate, or whose reach does not hold the hole's
