@@ -156,11 +156,9 @@ void print_summary(const poreshell::Options& c, const poreshell::Report& r,
         least_axis_ratio = std::min(least_axis_ratio, h.axis_ratio);
       }
       const auto n = static_cast<double>(outputs[i].holes.size());
-      fmt::print(
-          "  on mesh  {} holes at mid-wall, diameter {:.4g} mm (least {:.3g}), circularity {:.3f}, least "
-          "axis "
-          "ratio {:.2f}\n",
-          outputs[i].holes.size(), diameter / n, least_diameter, circularity / n, least_axis_ratio);
+      fmt::print("  on mesh  {} holes at mid-wall, diameter {:.4g} mm (least {:.3g}), circularity {:.3f}, ",
+                 outputs[i].holes.size(), diameter / n, least_diameter, circularity / n);
+      fmt::print("least axis ratio {:.2f}\n", least_axis_ratio);
     }
     // What the zones asked for, as measured on the holes.
     if (c.rim > 0.0 && !std::isnan(m.zones.rim))

@@ -399,8 +399,10 @@
     const list = selection.querySelector('dl');
     row(list, 'Diameter', mm(h.diameter)).id = 'sel-diameter';
     row(list, finite(requestedDiameter) ? 'vs request' : 'vs mean', (dev >= 0 ? '+' : '') + pct(dev));
-    row(list, 'Circularity', fmt(h.circularity, 3));
-    row(list, 'Axis ratio', fmt(h.axisRatio, 3));
+    if (h.circularity > 0) {  // a preview's holes are the band's spots: no loop measured
+      row(list, 'Circularity', fmt(h.circularity, 3));
+      row(list, 'Axis ratio', fmt(h.axisRatio, 3));
+    }
     row(list, 'Nearest hole', mm(h.nearest));
     row(list, 'Centre', [h.centre.x, h.centre.y, h.centre.z].map((c) => c.toFixed(2)).join(', '));
     selection.dataset.hole = String(h.index);
