@@ -31,6 +31,10 @@ constexpr double kSecondsFixed = 3.0, kSecondsPerBandVoxel = 21.7e-6;
 // voxels. (`max_memory_gb` is checked against the cautious 1300 B a voxel of band/memory_estimate.hpp.)
 constexpr double kPeakFixedBytes = 50.0 * 1024 * 1024, kPeakBytesPerVoxel = 275.0;
 constexpr double kTrianglesPerShellCell = 4.8;  // per band voxel, times (h / shell spacing)^2
+// `max_triangles`: the reduction's cost per collapse (two triangles) and its structures per triangle of
+// the meshed shell, on top of the run (docs/benchmarks.md "Estimates": 47-95 us a collapse, 324-368
+// bytes a triangle, measured on the bunny and two spheres).
+constexpr double kSecondsPerCollapse = 65e-6, kReductionBytesPerTriangle = 370.0;
 constexpr double kStlBytesPerTriangle = 50.0;
 constexpr double kStlHeaderBytes = 84.0;
 // A preview: the band's slab {|psi| < h} meshed on the band's grid, about 4.8 triangles per band voxel
@@ -110,8 +114,12 @@ Estimate estimate(const Input& input, const Options& given) {
                               ? std::min(e.voxel_size_mm, wall_mm / kMinCellsAcrossWall)
                               : e.voxel_size_mm;
   e.triangles = kTrianglesPerShellCell * band.voxels * std::pow(e.voxel_size_mm / shell_mm, 2);
-  if (options.max_triangles > 0)
-    e.triangles = std::min(e.triangles, static_cast<double>(options.max_triangles));
+  if (const auto target = static_cast<double>(options.max_triangles);
+      !options.preview && target > 0 && e.triangles > target) {
+    e.seconds += kSecondsPerCollapse * 0.5 * (e.triangles - target);
+    e.peak_bytes += kReductionBytesPerTriangle * e.triangles;
+    e.triangles = target;
+  }
   e.stl_bytes = kStlHeaderBytes + kStlBytesPerTriangle * e.triangles;
   if (options.preview) {
     e.preview = true;
