@@ -1,9 +1,9 @@
 // The public API's viewer (include/poreshell/io.hpp): the result in the viewer's terms.
 
+#include <span>
 #include <variant>
 
 #include "core/error.hpp"
-#include "geometry/point_tree.hpp"
 #include "input/placement.hpp"
 #include "io/display_mesh.hpp"
 #include "io/html_viewer.hpp"
@@ -37,20 +37,21 @@ TriangleMesh as_is(const Mesh& mesh) {
   return out;
 }
 
-// A preview's pattern (minus the pore level) on the shown mesh: a reduced mesh's vertex takes the
-// value of the nearest vertex of the full one.
-std::vector<float> display_pattern(const TriangleMesh& full, const TriangleMesh& shown,
-                                   const std::vector<double>& pattern, double iso) {
-  if (pattern.size() != full.vertices.size())
+// A preview's pattern (minus the pore level) on the shown mesh: a reduced mesh's vertex, the mean of
+// the vertices clustered into it, takes the mean of their values (no search: the clustering says which).
+std::vector<float> display_pattern(const TriangleMesh& full, std::span<const std::int32_t> shown_as,
+                                   std::size_t shown_vertices, const std::vector<double>& pattern,
+                                   double iso) {
+  if (pattern.size() != full.vertices.size() || shown_as.size() != full.vertices.size())
     throw Error(ErrorCode::invalid_option, "the output's pattern does not match its mesh", "pattern");
-  std::vector<float> values(shown.vertices.size());
-  if (shown.vertices.size() == full.vertices.size()) {
-    for (std::size_t v = 0; v < values.size(); ++v) values[v] = static_cast<float>(pattern[v] - iso);
-    return values;
+  std::vector<double> sum(shown_vertices, 0.0);
+  std::vector<int> count(shown_vertices, 0);
+  for (std::size_t v = 0; v < full.vertices.size(); ++v) {
+    sum[static_cast<std::size_t>(shown_as[v])] += pattern[v];
+    ++count[static_cast<std::size_t>(shown_as[v])];
   }
-  const PointTree tree(full.vertices);
-  for (std::size_t v = 0; v < values.size(); ++v)
-    values[v] = static_cast<float>(pattern[tree.nearest(shown.vertices[v]).first] - iso);
+  std::vector<float> values(shown_vertices);
+  for (std::size_t c = 0; c < shown_vertices; ++c) values[c] = static_cast<float>(sum[c] / count[c] - iso);
   return values;
 }
 
@@ -67,8 +68,10 @@ void save_html(const std::filesystem::path& path, const Result& result, const Op
   data.title = view.title.empty() ? result.report.input.name : view.title;
   // A preview's mesh as it is (its pattern is per vertex); any other cleaned as an input would be.
   const TriangleMesh mesh = out.pattern.empty() ? to_triangle_mesh(out.mesh) : as_is(out.mesh);
-  data.mesh = reduce_for_display(mesh, view.max_triangles);
-  if (!out.pattern.empty()) data.pattern = display_pattern(mesh, data.mesh, out.pattern, out.iso);
+  std::vector<std::int32_t> shown_as;
+  data.mesh = reduce_for_display(mesh, view.max_triangles, &shown_as);
+  if (!out.pattern.empty())
+    data.pattern = display_pattern(mesh, shown_as, data.mesh.vertices.size(), out.pattern, out.iso);
   for (const Hole& h : out.holes)
     data.holes.push_back({vec(h.centre), vec(h.normal), h.diameter, h.circularity, h.nearest, h.axis_ratio});
   if (result.report.plan) data.requested_diameter_mm = result.report.plan->diameter;

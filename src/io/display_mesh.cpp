@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numeric>
 #include <unordered_map>
 
 namespace poreshell {
 namespace {
 
-TriangleMesh cluster(const TriangleMesh& mesh, const Vec3& origin, double cell) {
+TriangleMesh cluster(const TriangleMesh& mesh, const Vec3& origin, double cell,
+                     std::vector<std::int32_t>& vertex_cell) {
   struct KeyHash {
     std::size_t operator()(const std::array<std::int64_t, 3>& k) const {
       return static_cast<std::size_t>(k[0] * 73856093 ^ k[1] * 19349663 ^ k[2] * 83492791);
@@ -16,7 +18,7 @@ TriangleMesh cluster(const TriangleMesh& mesh, const Vec3& origin, double cell) 
   };
   std::unordered_map<std::array<std::int64_t, 3>, std::int32_t, KeyHash> cell_index;
   cell_index.reserve(mesh.vertices.size() / 4);
-  std::vector<std::int32_t> vertex_cell(mesh.vertices.size());
+  vertex_cell.resize(mesh.vertices.size());
   std::vector<Vec3> sum;
   std::vector<int> count;
   for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
@@ -42,27 +44,31 @@ TriangleMesh cluster(const TriangleMesh& mesh, const Vec3& origin, double cell) 
     if (!has_repeated_vertex(c)) out.triangles.push_back(c);
   }
   // The same cluster triangle from several input triangles: keep one (sorted corners as the key,
-  // orientation from the first).
-  std::vector<std::size_t> order(out.triangles.size());
-  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-  const auto sorted = [&](std::size_t i) {
-    auto k = out.triangles[i];
-    std::sort(k.begin(), k.end());
-    return k;
-  };
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t a, std::size_t b) { return sorted(a) < sorted(b); });
+  // orientation from the first), keys made once rather than in every comparison.
+  std::vector<std::pair<std::array<std::int32_t, 3>, std::size_t>> keyed(out.triangles.size());
+  for (std::size_t i = 0; i < keyed.size(); ++i) {
+    keyed[i] = {out.triangles[i], i};
+    std::sort(keyed[i].first.begin(), keyed[i].first.end());
+  }
+  std::sort(keyed.begin(), keyed.end());
   std::vector<std::array<std::int32_t, 3>> unique;
-  for (std::size_t i = 0; i < order.size(); ++i)
-    if (i == 0 || sorted(order[i]) != sorted(order[i - 1])) unique.push_back(out.triangles[order[i]]);
+  for (std::size_t i = 0; i < keyed.size(); ++i)
+    if (i == 0 || keyed[i].first != keyed[i - 1].first) unique.push_back(out.triangles[keyed[i].second]);
   out.triangles = std::move(unique);
   return out;
 }
 
 }  // namespace
 
-TriangleMesh reduce_for_display(const TriangleMesh& mesh, std::size_t max_triangles) {
-  if (mesh.triangles.size() <= max_triangles || mesh.vertices.empty()) return mesh;
+TriangleMesh reduce_for_display(const TriangleMesh& mesh, std::size_t max_triangles,
+                                std::vector<std::int32_t>* shown_as) {
+  if (mesh.triangles.size() <= max_triangles || mesh.vertices.empty()) {
+    if (shown_as) {
+      shown_as->resize(mesh.vertices.size());
+      std::iota(shown_as->begin(), shown_as->end(), 0);
+    }
+    return mesh;
+  }
   Vec3 lo = mesh.vertices.front(), hi = lo;
   for (const Vec3& v : mesh.vertices) {
     lo = lo.cwiseMin(v);
@@ -72,9 +78,13 @@ TriangleMesh reduce_for_display(const TriangleMesh& mesh, std::size_t max_triang
   // A cell of side c holds about one vertex of the reduced surface, which has about 2 triangles a
   // vertex: area / c^2 vertices give 2 area / c^2 triangles.
   double cell = std::sqrt(2.0 * area / static_cast<double>(max_triangles));
+  std::vector<std::int32_t> vertex_cell;
   for (;;) {
-    TriangleMesh reduced = cluster(mesh, lo, cell);
-    if (reduced.triangles.size() <= max_triangles) return reduced;
+    TriangleMesh reduced = cluster(mesh, lo, cell, vertex_cell);
+    if (reduced.triangles.size() <= max_triangles) {
+      if (shown_as) *shown_as = std::move(vertex_cell);
+      return reduced;
+    }
     cell *= 1.2;
   }
 }

@@ -5,13 +5,18 @@
 // to 300 k; clustering takes well under a second and the difference is below what a screen shows.
 
 #include <cstddef>
+#include <cstdint>
+#include <vector>
 
 #include "geometry/mesh.hpp"
 
 namespace poreshell {
 
 // At most `max_triangles` triangles (the input itself when it has no more); orientation kept,
-// triangles that collapse dropped.
-TriangleMesh reduce_for_display(const TriangleMesh& mesh, std::size_t max_triangles);
+// triangles that collapse dropped. `shown_as`, if given, receives for each input vertex the reduced
+// vertex it went into (the identity when nothing was reduced): per-vertex data follows the vertices
+// through it.
+TriangleMesh reduce_for_display(const TriangleMesh& mesh, std::size_t max_triangles,
+                                std::vector<std::int32_t>* shown_as = nullptr);
 
 }  // namespace poreshell

@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "core/error.hpp"
+#include "io/display_mesh.hpp"
 #include "io/html_viewer.hpp"
 #include "viewer_test_data.hpp"
 
@@ -195,6 +196,34 @@ TEST(HtmlViewer, RendersPng) {
   EXPECT_EQ(be32(20), 500u);
   EXPECT_GT(fs::file_size(dir / "page.png"), 20'000u);  // a picture, not a blank page
   fs::remove_all(dir);
+}
+
+// The display copy: under the budget, and every shown vertex the mean of the input vertices that
+// `shown_as` sends to it (what carries a preview's pattern onto it); the identity when nothing is cut.
+TEST(DisplayMesh, ReducesUnderTheBudgetAndSaysWhereEachVertexWent) {
+  const TriangleMesh mesh = grid_mesh(300);  // 180 000 triangles
+  std::vector<std::int32_t> shown_as;
+  const TriangleMesh shown = reduce_for_display(mesh, 20000, &shown_as);
+  EXPECT_LE(shown.triangles.size(), 20000u);
+  EXPECT_GT(shown.triangles.size(), 5000u) << "reduced far below the budget";
+  ASSERT_EQ(shown_as.size(), mesh.vertices.size());
+  std::vector<Vec3> sum(shown.vertices.size(), Vec3::Zero());
+  std::vector<int> count(shown.vertices.size(), 0);
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+    ASSERT_GE(shown_as[v], 0);
+    ASSERT_LT(static_cast<std::size_t>(shown_as[v]), shown.vertices.size());
+    sum[static_cast<std::size_t>(shown_as[v])] += mesh.vertices[v];
+    ++count[static_cast<std::size_t>(shown_as[v])];
+  }
+  for (std::size_t c = 0; c < shown.vertices.size(); ++c) {
+    ASSERT_GT(count[c], 0);
+    EXPECT_LT((sum[c] / count[c] - shown.vertices[c]).norm(), 1e-9) << "vertex " << c;
+  }
+  for (const auto& t : shown.triangles) EXPECT_FALSE(has_repeated_vertex(t));
+
+  const TriangleMesh kept = reduce_for_display(mesh, mesh.triangles.size(), &shown_as);
+  EXPECT_EQ(kept.triangles.size(), mesh.triangles.size());
+  for (std::size_t v = 0; v < shown_as.size(); ++v) ASSERT_EQ(shown_as[v], static_cast<std::int32_t>(v));
 }
 
 }  // namespace
