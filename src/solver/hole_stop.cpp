@@ -71,17 +71,28 @@ bool HoleStop::settled(int step, std::span<const double> phi) {
     last_.settled = separated && full_window && (!now.centres.empty() || options_.min_spread <= 0.0) &&
                     same_count && last_.shift <= options_.max_shift && last_.flipped <= options_.max_flipped;
   }
-  // Progress: a third for the phases' separation, the rest for the side changes' fall.
+  // Progress: a third for the phases' separation, the rest for the slowest of the conditions: the side
+  // changes' fall towards max_flipped, and the layout's, half for the count holding over a window and
+  // half for the centres' shift falling towards max_shift (both falls in log scale, neither done before
+  // the count has held a window). A merge late in the run stalls it; it never goes back, and it is 1
+  // only once settled.
+  if (!history_.empty() && history_.back().centres.size() != now.centres.size()) count_changed_at_ = step;
   double p = 0.0;
   if (!phi.empty() && options_.min_spread > 0.0) p = std::min(1.0, (*hi - *lo) / options_.min_spread) / 3.0;
   if (separated && !history_.empty()) {
+    const auto towards = [](double first, double now_value, double goal) {
+      if (now_value <= goal) return 1.0;
+      return std::clamp(std::log(first / now_value) / std::log(first / goal), 0.0, 0.99);
+    };
     if (first_flipped_ <= 0.0) first_flipped_ = std::max(last_.flipped, 2.0 * options_.max_flipped);
-    double by_flips = 1.0;
-    if (last_.flipped > options_.max_flipped)
-      by_flips = std::clamp(
-          std::log(first_flipped_ / last_.flipped) / std::log(first_flipped_ / options_.max_flipped), 0.0,
-          0.99);
-    p = (1.0 + 2.0 * by_flips) / 3.0;
+    const double by_flips = towards(first_flipped_, last_.flipped, options_.max_flipped);
+    const double held = std::min(1.0, static_cast<double>(step - count_changed_at_) / options_.window);
+    double by_layout = 0.5 * held;
+    if (std::isfinite(last_.shift)) {
+      if (first_shift_ <= 0.0) first_shift_ = std::max(last_.shift, 2.0 * options_.max_shift);
+      by_layout += 0.5 * std::min(held, towards(first_shift_, last_.shift, options_.max_shift));
+    }
+    p = std::min(0.99, (1.0 + 2.0 * std::min(by_flips, by_layout)) / 3.0);
   }
   if (last_.settled) p = 1.0;
   progress_ = std::max(progress_, p);

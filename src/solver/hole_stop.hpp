@@ -42,8 +42,8 @@ class HoleStop {
   // The state at `step` (0: the initial state; steps must increase). True once the layout has settled;
   // steps between checks return false at once.
   bool settled(int step, std::span<const double> phi);
-  // How far the run has come, 0..1, never decreasing: the phases' separation, then the side changes'
-  // fall (log scale) towards max_flipped.
+  // How far the run has come, 0..1, never decreasing: the phases' separation, then the slowest of the
+  // conditions (side changes, hole count, centre shift) on its way to its threshold.
   double progress() const { return progress_; }
   const HoleStopCheck& last_check() const { return last_; }
   const HoleStopOptions& options() const { return options_; }
@@ -58,7 +58,8 @@ class HoleStop {
   HoleStopOptions options_;
   std::deque<Snapshot> history_;  // oldest first, back() the latest
   HoleStopCheck last_;
-  double first_flipped_ = 0.0;
+  double first_flipped_ = 0.0, first_shift_ = 0.0;
+  int count_changed_at_ = 0;  // the last step whose hole count differed from the check before
   double progress_ = 0.0;
 };
 
