@@ -39,14 +39,13 @@ TriangleMesh as_is(const Mesh& mesh) {
 
 // A preview's pattern (minus the pore level) on the shown mesh: a reduced mesh's vertex, the mean of
 // the vertices clustered into it, takes the mean of their values (no search: the clustering says which).
-std::vector<float> display_pattern(const TriangleMesh& full, std::span<const std::int32_t> shown_as,
-                                   std::size_t shown_vertices, const std::vector<double>& pattern,
-                                   double iso) {
-  if (pattern.size() != full.vertices.size() || shown_as.size() != full.vertices.size())
+std::vector<float> display_pattern(std::span<const double> pattern, std::span<const std::int32_t> shown_as,
+                                   std::size_t shown_vertices, double iso) {
+  if (pattern.size() != shown_as.size())
     throw Error(ErrorCode::invalid_option, "the output's pattern does not match its mesh", "pattern");
   std::vector<double> sum(shown_vertices, 0.0);
   std::vector<int> count(shown_vertices, 0);
-  for (std::size_t v = 0; v < full.vertices.size(); ++v) {
+  for (std::size_t v = 0; v < pattern.size(); ++v) {
     sum[static_cast<std::size_t>(shown_as[v])] += pattern[v];
     ++count[static_cast<std::size_t>(shown_as[v])];
   }
@@ -71,7 +70,7 @@ void save_html(const std::filesystem::path& path, const Result& result, const Op
   std::vector<std::int32_t> shown_as;
   data.mesh = reduce_for_display(mesh, view.max_triangles, &shown_as);
   if (!out.pattern.empty())
-    data.pattern = display_pattern(mesh, shown_as, data.mesh.vertices.size(), out.pattern, out.iso);
+    data.pattern = display_pattern(out.pattern, shown_as, data.mesh.vertices.size(), out.iso);
   for (const Hole& h : out.holes)
     data.holes.push_back({vec(h.centre), vec(h.normal), h.diameter, h.circularity, h.nearest, h.axis_ratio});
   if (result.report.plan) data.requested_diameter_mm = result.report.plan->diameter;
