@@ -47,10 +47,10 @@ struct ScannedVoxel {
   double psi;
 };
 
-// The voxels that satisfy the band rule, by key. Only points with |psi| < sqrt(3) delta can (|grad_h
-// psi| <= sqrt(3) for a 1-Lipschitz psi), and their neighbours are within the near field's reach.
+// The voxels that satisfy the band rule, by key. Only points with |psi| < gradient_bound delta can
+// (|grad_h psi| <= sqrt(3) for a 1-Lipschitz psi), and their neighbours are within the near field's reach.
 std::vector<ScannedVoxel> band_voxels(const NearField& near, const Surface& surface, const Grid& grid,
-                                      double delta, const StageProgress& progress) {
+                                      double delta, double gradient_bound, const StageProgress& progress) {
   const double inv_2h = 0.5 / grid.h();
   const auto psi_at = [&](const Coord& c) {
     const double psi = near.psi(c);
@@ -59,7 +59,7 @@ std::vector<ScannedVoxel> band_voxels(const NearField& near, const Surface& surf
   std::vector<std::vector<ScannedVoxel>> per_row(near.row_count());
   monitored_for(near.row_count(), progress, [&](std::size_t r) {
     near.for_each_near_point(r, [&](const Coord& c, double psi) {
-      if (std::abs(psi) >= delta * std::sqrt(3.0)) return;
+      if (std::abs(psi) >= delta * gradient_bound) return;
       const Vec3 gradient((psi_at({c.i + 1, c.j, c.k}) - psi_at({c.i - 1, c.j, c.k})) * inv_2h,
                           (psi_at({c.i, c.j + 1, c.k}) - psi_at({c.i, c.j - 1, c.k})) * inv_2h,
                           (psi_at({c.i, c.j, c.k + 1}) - psi_at({c.i, c.j, c.k - 1})) * inv_2h);
@@ -274,14 +274,16 @@ Grid covering_grid(const Surface& surface, double h) {
 NarrowBand build_band(const Surface& surface, const Grid& grid, const BandOptions& options) {
   NarrowBand band(grid);
   const double delta = options.delta_in_h * grid.h();
-  // Reach: band candidates (|psi| < sqrt(3) delta) and one cell beyond, which holds their neighbours,
-  // the ghosts and the ghosts' stencil corners (within sqrt(3) h of the surface); 1% for rounding.
-  // Shares of the build's time (the bunny at 400 points): the near field, the band rule, the closure
-  // rounds (one, rarely more), the voxels' distances and closest points.
+  // Reach: band candidates (|psi| < gradient_bound delta) and one cell beyond, which holds their
+  // neighbours, the ghosts and the ghosts' stencil corners (within sqrt(3) h of the surface); 1% for
+  // rounding. Shares of the build's time (the bunny at 400 points): the near field, the band rule, the
+  // closure rounds (one, rarely more), the voxels' distances and closest points.
   const StageProgress& progress = options.progress;
-  const NearField near(surface, grid, delta * std::sqrt(3.0) + 1.01 * grid.h(), progress.part(0.0, 0.5));
+  const double bound = std::clamp(options.gradient_bound, 1.0, std::sqrt(3.0));
+  const NearField near(surface, grid, delta * bound + 1.01 * grid.h(), progress.part(0.0, 0.5));
   band.stats_.candidate_blocks = near.blocks_scanned();
-  const std::vector<ScannedVoxel> scanned = band_voxels(near, surface, grid, delta, progress.part(0.5, 0.6));
+  const std::vector<ScannedVoxel> scanned =
+      band_voxels(near, surface, grid, delta, bound, progress.part(0.5, 0.6));
   std::vector<std::int64_t> keys(scanned.size());
   for (std::size_t v = 0; v < scanned.size(); ++v) keys[v] = scanned[v].key;
   if (keys.empty())

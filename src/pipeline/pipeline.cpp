@@ -172,6 +172,7 @@ PipelineResult run_pipeline(const Input& input, const Options& given, RunMonitor
   // Optional so that shell mode can free it before meshing, the stage with the largest footprint.
   BandOptions band_options;
   band_options.progress = StageProgress(monitor);
+  if (options.preview) band_options.gradient_bound = kLikelyGradientBound;
   std::optional<NarrowBand> band_storage(build_band(*placed.surface, grid, band_options));
   const NarrowBand& band = *band_storage;
   release_free_memory();
