@@ -156,14 +156,14 @@ void MeshSurface::build(std::int32_t node, std::vector<std::int32_t>& order, con
   build(left + 1, order, tris, centroids, mid, end);
 }
 
-double MeshSurface::nearest(const Vec3& p, Vec3& closest, std::int32_t& index) const {
+double MeshSurface::nearest(const Vec3& p, Vec3& closest, std::int32_t& index, double bound2) const {
   struct Pending {
     std::int32_t node;
     double d2;  // lower bound: squared distance to its box
   };
   std::array<Pending, kMaxDepth> stack;
   int top = 0;
-  double best = std::numeric_limits<double>::infinity();
+  double best = bound2;
   std::int32_t node = 0;
   for (;;) {
     const Node& n = nodes_[node];
@@ -201,6 +201,16 @@ double MeshSurface::nearest(const Vec3& p, Vec3& closest, std::int32_t& index) c
 
 double MeshSurface::distance(const Vec3& p) const {
   return distance_and_closest_point(p).distance;
+}
+
+// The band scan's block tests: 4 in 10 of the bunny preview's distance queries, mostly from blocks far
+// from the surface, which a search bounded by the reach leaves after a few boxes.
+double MeshSurface::unsigned_distance_up_to(const Vec3& p, double bound) const {
+  Vec3 closest;
+  std::int32_t index = 0;
+  const double searched = bound * (1.0 + 1e-12) + std::numeric_limits<double>::min();
+  const double d2 = nearest(p, closest, index, searched * searched);
+  return d2 < searched * searched ? std::sqrt(d2) : std::numeric_limits<double>::infinity();
 }
 
 std::optional<Vec3> MeshSurface::closest_point(const Vec3& p) const {

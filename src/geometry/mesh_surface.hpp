@@ -3,6 +3,7 @@
 // hierarchy over its triangles. Unsigned, so open surfaces and scans with holes need no repair.
 
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "geometry/mesh.hpp"
@@ -29,6 +30,7 @@ class MeshSurface final : public Surface {
   std::optional<Vec3> closest_point(const Vec3& p) const override;
   bool closest_point_is_exact() const override { return true; }
   SurfaceQuery distance_and_closest_point(const Vec3& p) const override;  // one search
+  double unsigned_distance_up_to(const Vec3& p, double bound) const override;
   Box bounds() const override;
   std::string name() const override { return "mesh"; }
 
@@ -56,8 +58,10 @@ class MeshSurface final : public Surface {
   // Fills nodes_[node] for the triangles order[begin, end), splitting at the centroid median.
   void build(std::int32_t node, std::vector<std::int32_t>& order, const std::vector<Tri>& tris,
              const std::vector<Vec3>& centroids, std::int32_t begin, std::int32_t end);
-  // Squared distance, closest point and position in tris_ of the nearest triangle.
-  double nearest(const Vec3& p, Vec3& closest, std::int32_t& index) const;
+  // Squared distance, closest point and position in tris_ of the nearest triangle; with a finite
+  // `bound2`, only triangles nearer than its root are searched (infinity where there is none).
+  double nearest(const Vec3& p, Vec3& closest, std::int32_t& index,
+                 double bound2 = std::numeric_limits<double>::infinity()) const;
 
   std::vector<Node> nodes_;                // nodes_[0] is the root
   std::vector<Tri> tris_;                  // in leaf order, so a leaf's triangles are contiguous

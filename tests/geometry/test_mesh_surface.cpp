@@ -428,6 +428,29 @@ TEST(MeshSurface, OneSearchGivesBothAnswersExactly) {
   }
 }
 
+// The bounded search gives the exact distance within its bound and only says "beyond" past it, never a
+// value at or under the bound there: the band scan skips blocks on it.
+TEST(MeshSurface, BoundedDistanceIsExactWithinTheBoundAndAboveItBeyond) {
+  const MeshSurface surface(holed_sphere());
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<double> u(-1.5, 1.5), b(0.0, 0.6);
+  int within = 0, beyond = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const Vec3 p(u(rng), u(rng), u(rng));
+    const double bound = b(rng), exact = surface.distance(p);
+    const double d = surface.unsigned_distance_up_to(p, bound);
+    if (exact <= bound) {
+      ASSERT_EQ(d, exact) << i;
+      ++within;
+    } else {
+      ASSERT_GT(d, bound) << i;
+      ++beyond;
+    }
+  }
+  EXPECT_GT(within, 100);
+  EXPECT_GT(beyond, 100);
+}
+
 // nearest_triangle names a triangle of the input mesh (not of the tree's leaf order), never one that is
 // skipped for a repeated vertex, and gives closest_point's point.
 TEST(MeshSurface, NearestTriangleIndexesTheInputTriangles) {
