@@ -36,7 +36,7 @@ bool for_each_point_near(const Surface& surface, const Grid& grid, const Coord& 
   const double h = grid.h();
   const Vec3 center = grid.position(origin) + Vec3::Constant(0.5 * (size - 1) * h);
   const double half_diagonal = 0.5 * std::sqrt(3.0) * (size - 1) * h;
-  const double center_distance = surface.unsigned_distance_up_to(center, reach + half_diagonal);
+  const double center_distance = std::abs(surface.distance_up_to(center, reach + half_diagonal));
   if (center_distance > reach + half_diagonal) return false;
   if (size > kSmallestBlock && center_distance + half_diagonal > reach) {
     const int half = size / 2;

@@ -38,11 +38,11 @@ class Surface {
     return {distance(p), closest_point(p)};
   }
 
-  // |distance(p)| where it is at most `bound`, else any value above `bound`: what deciding "beyond
-  // reach" needs. Sources whose search can stop at the bound (a mesh's tree) override it.
-  virtual double unsigned_distance_up_to(const Vec3& p, double bound) const {
+  // distance(p) where |distance(p)| <= bound, else any value beyond the bound on the same side: what
+  // deciding "out of reach" needs. Sources whose search can stop at the bound (a mesh's tree) override it.
+  virtual double distance_up_to(const Vec3& p, double bound) const {
     static_cast<void>(bound);
-    return std::abs(distance(p));
+    return distance(p);
   }
 
   // A box that holds the whole surface.

@@ -438,7 +438,7 @@ TEST(MeshSurface, BoundedDistanceIsExactWithinTheBoundAndAboveItBeyond) {
   for (int i = 0; i < 2000; ++i) {
     const Vec3 p(u(rng), u(rng), u(rng));
     const double bound = b(rng), exact = surface.distance(p);
-    const double d = surface.unsigned_distance_up_to(p, bound);
+    const double d = surface.distance_up_to(p, bound);
     if (exact <= bound) {
       ASSERT_EQ(d, exact) << i;
       ++within;
