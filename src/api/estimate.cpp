@@ -12,6 +12,7 @@
 #include "band/band.hpp"
 #include "band/memory_estimate.hpp"
 #include "core/error.hpp"
+#include "geometry/refine.hpp"
 #include "input/placement.hpp"
 #include "pattern/hole_map.hpp"
 #include "pipeline/validate.hpp"
@@ -37,9 +38,10 @@ constexpr double kTrianglesPerShellCell = 4.8;  // per band voxel, times (h / sh
 constexpr double kSecondsPerCollapse = 65e-6, kReductionBytesPerTriangle = 370.0;
 constexpr double kStlBytesPerTriangle = 50.0;
 constexpr double kStlHeaderBytes = 84.0;
-// A preview: the band's slab {|psi| < h} meshed on the band's grid, about 4.8 triangles per band voxel
-// (the bunny, 8 mm holes at 14 mm: 790,948 from 163,539), written as PLY with a colour per vertex
-// (12 + 3 bytes a vertex, 13 a triangle, half as many vertices as triangles: 20.5 bytes a triangle).
+// A preview: a mesh input split as the pipeline splits it (counted, not guessed); other inputs as the
+// band's slab {|psi| < h} meshed on the band's grid, about 4.8 triangles per band voxel (the bunny's
+// points, 8 mm holes at 14 mm: 790,948 from 163,539). Written as PLY with a colour per vertex (12 + 3
+// bytes a vertex, 13 a triangle, half as many vertices as triangles: 20.5 bytes a triangle).
 // Its time: no solve, about linear in the band: the CLI's wall time, bunny previews of 0.16, 0.38 and
 // 1.26 M estimated band voxels, 2 threads (docs/benchmarks.md "Estimates").
 constexpr double kPreviewTrianglesPerVoxel = 4.84, kPlyBytesPerTriangle = 20.5;
@@ -124,7 +126,9 @@ Estimate estimate(const Input& input, const Options& given) {
   if (options.preview) {
     e.preview = true;
     e.seconds = kPreviewSecondsFixed + kPreviewSecondsPerVoxel * band.voxels;
-    e.triangles = kPreviewTrianglesPerVoxel * band.voxels;
+    e.triangles = placed.mesh
+                      ? static_cast<double>(preview_surface_mesh(*placed.mesh, grid.h()).triangles.size())
+                      : kPreviewTrianglesPerVoxel * band.voxels;
     e.stl_bytes = kStlHeaderBytes + kStlBytesPerTriangle * e.triangles;
     e.ply_bytes = kPlyBytesPerTriangle * e.triangles;
   }

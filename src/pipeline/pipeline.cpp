@@ -13,6 +13,7 @@
 #include "band/memory_estimate.hpp"
 #include "core/error.hpp"
 #include "core/heap.hpp"
+#include "geometry/refine.hpp"
 #include "input/vertex_field.hpp"
 #include "pattern/grading.hpp"
 #include "pattern/layout.hpp"
@@ -95,8 +96,9 @@ ShellSamples sample_printable_shell(const Options& c, const PlacedSurface& place
   return samples;
 }
 
-// A preview's output: the surface as a thin slab of the band ({|psi| < h}, closed at the band's grid
-// resolution) with phi at each vertex, and the band's holes.
+// A preview's output: the surface with phi at each vertex, and the band's holes. A mesh input is shown
+// as itself (preview_surface_mesh: the user's own triangles, and points clicked on it lie on the
+// surface); other inputs as a thin slab of the band ({|psi| < h}, closed at the band's resolution).
 void preview_output(double level, const Options& options, const PlacedSurface& placed, const NarrowBand& band,
                     std::span<const double> phi, std::span<const double> zone_weight, PipelineResult& result,
                     RunMonitor& monitor) {
@@ -109,7 +111,7 @@ void preview_output(double level, const Options& options, const PlacedSurface& p
   std::vector<HoleDisc> discs;
   for (const BandHole& h : out.holes.holes) discs.push_back({h.centre, h.diameter});
   out.zones = check_zones(discs, options, placed);
-  out.mesh = surface_slab_mesh(band);
+  out.mesh = placed.mesh ? preview_surface_mesh(*placed.mesh, band.grid().h()) : surface_slab_mesh(band);
   monitor.check();
   out.pattern.resize(out.mesh.vertices.size());
   tbb::parallel_for(std::size_t{0}, out.mesh.vertices.size(), [&](std::size_t v) {

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "poreshell/poreshell.hpp"
+#include "test_meshes.hpp"
 
 using namespace poreshell;
 
@@ -58,6 +59,26 @@ TEST(Estimate, PreviewIsEstimatedAsThePaintedSurfaceAndMatchesTheRun) {
   EXPECT_LT(preview.seconds, 0.5 * full.seconds) << "a preview solves nothing";
   EXPECT_GT(full.triangles, preview.triangles) << "the shell is meshed finer than the band";
   EXPECT_EQ(full.ply_bytes, 0.0);
+}
+
+// A mesh input's preview is the mesh split down to the band's resolution: the estimate counts those
+// triangles exactly, and the PLY's size within its per-triangle fit.
+TEST(Estimate, APreviewOfAMeshCountsItsSplitTriangles) {
+  MeshInput sleeve;
+  sleeve.mesh = test_support::open_sleeve(30.0, 100.0, 24, 2);
+  Options o = holes(6.0, 10.0);
+  o.preview = true;
+  const Estimate e = estimate(sleeve, o);
+  const Result r = perforate(sleeve, o);
+  const auto triangles = static_cast<double>(r.outputs.at(0).mesh.triangles.size());
+  EXPECT_GT(triangles, 100.0 * static_cast<double>(sleeve.mesh.triangles.size()));
+  EXPECT_EQ(e.triangles, triangles);
+  const std::filesystem::path ply = std::filesystem::temp_directory_path() /
+                                    ("poreshell-estimate-mesh-" + std::to_string(::getpid()) + ".ply");
+  save_mesh(ply, r.outputs.at(0));
+  const auto bytes = static_cast<double>(std::filesystem::file_size(ply));
+  std::filesystem::remove(ply);
+  EXPECT_NEAR(e.ply_bytes, bytes, 0.15 * bytes);
 }
 
 // A scan in metres read as millimetres is a speck: the estimate says so and names the unit that makes

@@ -4,10 +4,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 #include <vector>
 
+#include "geometry/mesh.hpp"
 #include "pipeline/pipeline.hpp"
 #include "solver/hole_stop.hpp"
+#include "test_meshes.hpp"
 
 using namespace poreshell;
 
@@ -99,4 +102,41 @@ TEST(StopRules, PreviewHolesAreTheFullRunsHoles) {
     EXPECT_NEAR((hole.centre - centre).norm(), 25.0, 0.5 * h);
     EXPECT_GT(hole.normal.dot((hole.centre - centre).normalized()), 0.95);  // outward
   }
+}
+
+// A mesh input's preview is the mesh itself with the pattern painted on: every vertex on the input
+// surface (a sleeve of long CAD triangles, 50 mm along), every edge split down to sqrt(2) h so that the
+// holes show, and the input's topology kept (one open tube: Euler characteristic 0, two rims).
+TEST(StopRules, PreviewOfAMeshIsThatMeshPaintedAtTheBandsResolution) {
+  MeshInput in;
+  in.mesh = test_support::open_sleeve(30.0, 100.0, 24, 2);
+  Options o = small_sphere_holes();
+  o.preview = true;
+  const PipelineResult p = run_pipeline(in, o, unmonitored());
+  const MeshOutput& out = p.meshes.at(0);
+  ASSERT_EQ(out.pattern.size(), out.mesh.vertices.size());
+  EXPECT_GT(out.mesh.triangles.size(), 100 * in.mesh.triangles.size());
+  const double h = p.solid.spacing_mm;
+  for (const Vec3& x : out.mesh.vertices) {
+    ASSERT_GE(x.z(), -1e-9);
+    ASSERT_LE(x.z(), 100.0 + 1e-9);
+    ASSERT_LE(std::hypot(x.x(), x.y()), 30.0 + 1e-9);
+    ASSERT_GE(std::hypot(x.x(), x.y()), 30.0 * std::cos(std::numbers::pi / 24) - 1e-9);  // on a facet
+  }
+  for (const Triangle& t : out.mesh.triangles)
+    for (std::size_t k = 0; k < 3; ++k)
+      ASSERT_LE((out.mesh.vertices[static_cast<std::size_t>(t[k])] -
+                 out.mesh.vertices[static_cast<std::size_t>(t[(k + 1) % 3])])
+                    .norm(),
+                std::sqrt(2.0) * h * (1 + 1e-9));
+  const MeshTopology topology = analyze_topology(out.mesh);
+  EXPECT_EQ(topology.euler_characteristic, 0);
+  EXPECT_EQ(topology.components, 1);
+  EXPECT_TRUE(topology.oriented());
+  EXPECT_TRUE(topology.manifold());
+  std::size_t open = 0;
+  for (double value : out.pattern) open += value > out.iso ? 1 : 0;
+  const double share = static_cast<double>(open) / static_cast<double>(out.pattern.size());
+  EXPECT_NEAR(share, out.holes.porosity, 0.1);
+  EXPECT_GT(out.holes.holes.size(), 50u);
 }
