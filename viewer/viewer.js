@@ -91,21 +91,27 @@
     row(m, 'Diameter', mm(figures.diameterMean), 'CV ' + pct(figures.diameterCv));
     row(m, 'Spacing', mm(figures.spacingMean), 'CV ' + pct(figures.spacingCv));
     if (finite(figures.porosity)) row(m, 'Porosity', pct(figures.porosity));
-    if (finite(wall.measured_median_mm))
+    // A preview has no solid: no wall, triangle count, volume or mass to show (its report holds zeros).
+    const preview = report.preview === true;
+    if (!preview && finite(wall.measured_median_mm))
       row(m, 'Wall', mm(wall.measured_median_mm), fmt(wall.measured_min_mm, 2) + '–' + fmt(wall.measured_max_mm, 2));
-    if (finite(meshReport.triangles)) row(m, 'Triangles', meshReport.triangles.toLocaleString('en'));
-
-    // Volume: the report's (mm³), else the display mesh's own.
-    const volume = finite(meshReport.volume) ? meshReport.volume : meshVolume;
-    const density = document.getElementById('density');
-    density.value = data.density_g_per_cm3;
-    document.getElementById('volume').textContent = fmt(volume / 1000, 2) + ' cm³';
-    const updateMass = () => {
-      const rho = parseFloat(density.value);
-      document.getElementById('mass').textContent = finite(rho) && rho > 0 ? fmt((volume / 1000) * rho, 1) + ' g' : '–';
-    };
-    density.addEventListener('input', updateMass);
-    updateMass();
+    if (!preview && finite(meshReport.triangles)) row(m, 'Triangles', meshReport.triangles.toLocaleString('en'));
+    if (preview) {
+      document.getElementById('print').outerHTML =
+          '<div class="none" id="print">a preview: the surface and its holes, no solid yet</div>';
+    } else {
+      // Volume: the report's (mm³), else the display mesh's own.
+      const volume = finite(meshReport.volume) ? meshReport.volume : meshVolume;
+      const density = document.getElementById('density');
+      density.value = data.density_g_per_cm3;
+      document.getElementById('volume').textContent = fmt(volume / 1000, 2) + ' cm³';
+      const updateMass = () => {
+        const rho = parseFloat(density.value);
+        document.getElementById('mass').textContent = finite(rho) && rho > 0 ? fmt((volume / 1000) * rho, 1) + ' g' : '–';
+      };
+      density.addEventListener('input', updateMass);
+      updateMass();
+    }
 
     const z = document.getElementById('zones');
     row(z, 'Rim', data.rim_width_mm > 0 ? mm(data.rim_width_mm, 1) : 'none');
