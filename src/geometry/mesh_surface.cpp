@@ -108,6 +108,9 @@ MeshSurface::MeshSurface(const TriangleMesh& mesh) {
     if (!tri.a.allFinite() || !tri.b.allFinite() || !tri.c.allFinite())
       throw InputError("the mesh has a vertex with a NaN or infinite coordinate: repair the mesh");
     tri.shape = classify_triangle(tri.a, tri.b, tri.c);
+    tri.centre = (tri.a + tri.b + tri.c) / 3.0;
+    tri.radius = std::sqrt(std::max({(tri.a - tri.centre).squaredNorm(), (tri.b - tri.centre).squaredNorm(),
+                                     (tri.c - tri.centre).squaredNorm()}));
     tris.push_back(tri);
     input_index.push_back(static_cast<std::int32_t>(i));
   }
@@ -169,7 +172,10 @@ double MeshSurface::nearest(const Vec3& p, Vec3& closest, std::int32_t& index, d
     const Node& n = nodes_[node];
     if (n.count > 0) {
       for (std::int32_t i = n.first; i < n.first + n.count; ++i) {
-        const Vec3 q = closest_point_on_triangle(p, tris_[i].a, tris_[i].b, tris_[i].c, tris_[i].shape);
+        const Tri& t = tris_[i];
+        const double reach = std::sqrt(best) + t.radius;
+        if ((p - t.centre).squaredNorm() > reach * reach) continue;
+        const Vec3 q = closest_point_on_triangle(p, t.a, t.b, t.c, t.shape);
         const double d2 = (q - p).squaredNorm();
         if (d2 < best) {
           best = d2;

@@ -53,6 +53,8 @@ class MeshSurface final : public Surface {
   struct Tri {
     Vec3 a, b, c;
     TriangleShape shape = TriangleShape::regular;
+    Vec3 centre = Vec3::Zero();  // of a sphere around the triangle: a cheap lower bound on its distance
+    double radius = 0.0;
   };
 
   // Fills nodes_[node] for the triangles order[begin, end), splitting at the centroid median.
