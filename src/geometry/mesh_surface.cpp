@@ -238,6 +238,16 @@ MeshSurface::NearestTriangle MeshSurface::nearest_triangle(const Vec3& p) const 
   return out;
 }
 
+std::optional<MeshSurface::NearestTriangle> MeshSurface::nearest_triangle_within(const Vec3& p,
+                                                                                 double reach) const {
+  NearestTriangle out;
+  std::int32_t index = -1;
+  nearest(p, out.point, index, reach * reach);
+  if (index < 0) return std::nullopt;
+  out.triangle = static_cast<std::size_t>(input_index_[static_cast<std::size_t>(index)]);
+  return out;
+}
+
 Box MeshSurface::bounds() const {
   return {nodes_[0].lo, nodes_[0].hi};
 }

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <vector>
 
 #include "geometry/mesh.hpp"
@@ -43,6 +44,8 @@ class MeshSurface final : public Surface {
     Vec3 point = Vec3::Zero();
   };
   NearestTriangle nearest_triangle(const Vec3& p) const;
+  // The same where a triangle comes within `reach` of p, else nothing (a search that stops at reach).
+  std::optional<NearestTriangle> nearest_triangle_within(const Vec3& p, double reach) const;
 
  private:
   struct Node {

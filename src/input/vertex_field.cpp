@@ -108,6 +108,15 @@ double VertexScalarField::at(const Vec3& p) const {
   return on_triangle(nearest.triangle, nearest.point);
 }
 
+double VertexScalarField::at_or(const Vec3& p, double reach, double outside) const {
+  if (surface_ == nullptr) {
+    const auto [vertex, distance] = points_->nearest(p);
+    return distance <= reach ? values_[vertex] : outside;
+  }
+  const std::optional<MeshSurface::NearestTriangle> nearest = surface_->nearest_triangle_within(p, reach);
+  return nearest ? on_triangle(nearest->triangle, nearest->point) : outside;
+}
+
 double VertexScalarField::on_triangle(std::size_t triangle, const Vec3& q) const {
   const auto& t = triangles_[triangle];
   const std::array<Vec3, 3> x{vertices_[t[0]], vertices_[t[1]], vertices_[t[2]]};

@@ -47,6 +47,10 @@ class VertexScalarField {
   // The value at the closest point of p on the faces (or at the nearest vertex, without faces). Safe to
   // call from many threads.
   double at(const Vec3& p) const;
+  // at(p) where the faces (or, without faces, a vertex) come within `reach` of p, else `outside`: a
+  // field painted on part of a surface, asked at points on the whole of it, in a search that stops at
+  // reach.
+  double at_or(const Vec3& p, double reach, double outside) const;
 
   // Maps the vertices into another frame (the pipeline's), so that at() takes points of that frame.
   // Values stay with their vertices; an affine map keeps the barycentric coordinates of every point.

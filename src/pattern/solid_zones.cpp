@@ -167,9 +167,18 @@ FeatureZones feature_zones(const Options& c, PlacedSurface& placed, double hole_
   placed.input.thin_vertices = f.thin_vertices;
   placed.input.crease_edges = f.crease_edges;
   if (f.thin_vertices > 0) {
+    // Only the triangles with a marked vertex: the field is 0 on all others, and the solid zones ask at
+    // points on the surface (the voxels' closest points, within rounding of it), so a point no marked
+    // triangle reaches is 0 without finding its triangle (the bunny's thin zones: 8% of its preview).
+    std::vector<Triangle> marked;
+    for (const Triangle& t : placed.mesh->triangles)
+      if (std::any_of(t.begin(), t.end(),
+                      [&](std::int32_t v) { return f.thin[static_cast<std::size_t>(v)] > 0.0; }))
+        marked.push_back(t);
     auto field = std::make_shared<const VertexScalarField>(placed.mesh->vertices, std::move(f.thin),
-                                                           placed.mesh->triangles, "thin");
-    zones.thin = [field](const Vec3& x) { return field->at(x); };
+                                                           std::move(marked), "thin");
+    constexpr double kOnSurface = 1e-6;  // grid units: h is 1e-3 to 1e-2, float closest points 1e-9 off
+    zones.thin = [field](const Vec3& x) { return field->at_or(x, kOnSurface, 0.0); };
   }
   zones.creases.assign(f.creases.begin(), f.creases.end());
   zones.crease_width = 0.5 * hole;

@@ -49,7 +49,7 @@ std::vector<double> mean_concentration_field(std::span<const double> weight, dou
 // along the mesh's open boundary, keep-out spheres and boxes, and a keep-out mask (a 0/1 vertex field,
 // evaluated by `mask` at points in mm, blended over 0.25-0.75). Empty where nothing is kept out.
 // Thin parts and creases of the input (input/features.hpp) in grid units: `thin` evaluates the thin
-// marks at a point, creases are kept `crease_width` clear.
+// marks at a point on the surface (0 off the marked triangles), creases are kept `crease_width` clear.
 struct FeatureZones {
   std::function<double(const Vec3&)> thin;
   std::vector<Segment> creases;

@@ -300,6 +300,22 @@ TEST(VertexFieldInterpolation, DegenerateTrianglesGiveFiniteEdgeValues) {
   EXPECT_NEAR(mixed.at(Vec3(0.25, 0.25, 1.0)), 1.0 + 0.25 + 0.5, 1e-12);
 }
 
+// A field on part of a surface (two of a unit square's four triangles), asked on the surface: at()'s
+// value on its faces, the outside value elsewhere, also on an edge it shares with the unpainted part only
+// within reach; without faces, a vertex within reach answers.
+TEST(VertexFieldInterpolation, AFieldOnPartOfASurfaceAnswersOnlyWithinReach) {
+  const std::vector<Vec3> square{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {2, 0, 0}, {2, 1, 0}};
+  const VertexScalarField painted(square, {1.0, 3.0, 5.0, 7.0, 0.0, 0.0}, {{0, 1, 2}, {0, 2, 3}});
+  EXPECT_NEAR(painted.at_or(Vec3(0.25, 0.5, 0), 1e-6, -1.0), painted.at(Vec3(0.25, 0.5, 0)), 1e-12);
+  EXPECT_NEAR(painted.at_or(Vec3(1.0, 0.5, 0), 1e-6, -1.0), 4.0, 1e-12);  // its edge x = 1
+  EXPECT_EQ(painted.at_or(Vec3(1.5, 0.5, 0), 1e-6, -1.0), -1.0);
+  EXPECT_EQ(painted.at_or(Vec3(0.5, 0.5, 0.1), 0.05, -1.0), -1.0);
+  EXPECT_NEAR(painted.at_or(Vec3(0.5, 0.5, 0.1), 0.2, -1.0), painted.at(Vec3(0.5, 0.5, 0)), 1e-12);
+  const VertexScalarField cloud({{0, 0, 0}, {1, 0, 0}}, {4.0, 5.0}, {});
+  EXPECT_EQ(cloud.at_or(Vec3(0.9, 0, 0), 0.2, -1.0), 5.0);
+  EXPECT_EQ(cloud.at_or(Vec3(0.5, 0, 0), 0.2, -1.0), -1.0);
+}
+
 // A painted point cloud (no faces, or only collapsed ones): the nearest vertex's value.
 TEST(VertexFieldInterpolation, WithoutFacesTheNearestVertexAnswers) {
   TempDir dir;
