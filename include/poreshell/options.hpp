@@ -162,8 +162,9 @@ struct Options {
   std::uint64_t seed = 1;
 
   // A preview: the pattern alone on the hole map's grid (never finer), stopped by the holes rule, no
-  // shell. Its output is the surface (a thin slab around it) with per-vertex `pattern` values and the
-  // band's holes.
+  // shell. Its output is the surface with per-vertex `pattern` values and the band's holes: a mesh
+  // input as itself, its edges split down to the grid's resolution; other inputs as a thin slab
+  // around the surface.
   bool preview = false;
 
   // The run.
