@@ -19,7 +19,8 @@ namespace poreshell {
 namespace {
 
 constexpr std::int32_t kLeafSize = 4;
-constexpr int kMaxDepth = 64;  // median splits: depth <= log2(2^31) + 1
+constexpr int kMaxDepth = 64;  // median splits below kSahDepth: depth <= kSahDepth + log2(2^31) + 1
+constexpr int kSahDepth = 30;
 
 Vec3 closest_point_on_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
   const Vec3 ab = b - a;
@@ -122,7 +123,7 @@ MeshSurface::MeshSurface(const TriangleMesh& mesh) {
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<std::int32_t>(i);
   nodes_.reserve(4 * tris.size() / kLeafSize + 1);
   nodes_.push_back({});
-  build(0, order, tris, centroids, 0, static_cast<std::int32_t>(tris.size()));
+  build(0, order, tris, centroids, 0, static_cast<std::int32_t>(tris.size()), 0);
   tris_.reserve(tris.size());
   input_index_.reserve(tris.size());
   for (std::int32_t i : order) {
@@ -132,7 +133,7 @@ MeshSurface::MeshSurface(const TriangleMesh& mesh) {
 }
 
 void MeshSurface::build(std::int32_t node, std::vector<std::int32_t>& order, const std::vector<Tri>& tris,
-                        const std::vector<Vec3>& centroids, std::int32_t begin, std::int32_t end) {
+                        const std::vector<Vec3>& centroids, std::int32_t begin, std::int32_t end, int depth) {
   Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   Vec3 clo = lo, chi = hi;
   for (std::int32_t i = begin; i < end; ++i) {
@@ -147,16 +148,71 @@ void MeshSurface::build(std::int32_t node, std::vector<std::int32_t>& order, con
 
   int axis = 0;
   (chi - clo).maxCoeff(&axis);
-  const std::int32_t mid = begin + (end - begin) / 2;
-  std::nth_element(order.begin() + begin, order.begin() + mid, order.begin() + end,
-                   [&](std::int32_t x, std::int32_t y) { return centroids[x][axis] < centroids[y][axis]; });
+  std::int32_t mid = begin + (end - begin) / 2;
+  const double extent = chi[axis] - clo[axis];
+  if (depth < kSahDepth && extent > 0.0) {
+    // Binned surface-area split: boxes that hug the surface's pieces.
+    constexpr int kBins = 16;
+    struct Bin {
+      Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+      std::int32_t count = 0;
+    };
+    std::array<Bin, kBins> bins;
+    const auto bin_of = [&](std::int32_t t) {
+      return std::min(kBins - 1, static_cast<int>(kBins * (centroids[t][axis] - clo[axis]) / extent));
+    };
+    for (std::int32_t i = begin; i < end; ++i) {
+      const Tri& t = tris[order[i]];
+      Bin& b = bins[static_cast<std::size_t>(bin_of(order[i]))];
+      b.lo = b.lo.cwiseMin(t.a).cwiseMin(t.b).cwiseMin(t.c);
+      b.hi = b.hi.cwiseMax(t.a).cwiseMax(t.b).cwiseMax(t.c);
+      ++b.count;
+    }
+    const auto area = [](const Vec3& l, const Vec3& h) {
+      if (!(l.x() <= h.x())) return 0.0;
+      const Vec3 e = h - l;
+      return e.x() * e.y() + e.y() * e.z() + e.z() * e.x();
+    };
+    std::array<double, kBins> right_cost{};
+    Vec3 rlo = Vec3::Constant(std::numeric_limits<double>::infinity()), rhi = -rlo;
+    std::int32_t rcount = 0;
+    for (int b = kBins - 1; b > 0; --b) {
+      rlo = rlo.cwiseMin(bins[static_cast<std::size_t>(b)].lo);
+      rhi = rhi.cwiseMax(bins[static_cast<std::size_t>(b)].hi);
+      rcount += bins[static_cast<std::size_t>(b)].count;
+      right_cost[static_cast<std::size_t>(b)] = area(rlo, rhi) * rcount;
+    }
+    Vec3 llo = Vec3::Constant(std::numeric_limits<double>::infinity()), lhi = -llo;
+    std::int32_t lcount = 0;
+    double best = std::numeric_limits<double>::infinity();
+    int split = -1;
+    for (int b = 0; b < kBins - 1; ++b) {
+      llo = llo.cwiseMin(bins[static_cast<std::size_t>(b)].lo);
+      lhi = lhi.cwiseMax(bins[static_cast<std::size_t>(b)].hi);
+      lcount += bins[static_cast<std::size_t>(b)].count;
+      if (lcount == 0 || lcount == end - begin) continue;
+      const double cost = area(llo, lhi) * lcount + right_cost[static_cast<std::size_t>(b + 1)];
+      if (cost < best) {
+        best = cost;
+        split = b;
+      }
+    }
+    if (split >= 0) {
+      const auto middle = std::stable_partition(order.begin() + begin, order.begin() + end,
+                                                [&](std::int32_t t) { return bin_of(t) <= split; });
+      mid = static_cast<std::int32_t>(middle - order.begin());
+    }
+  }
+  if (mid == begin + (end - begin) / 2 || depth >= kSahDepth || !(extent > 0.0))
+    std::nth_element(order.begin() + begin, order.begin() + mid, order.begin() + end,
+                     [&](std::int32_t x, std::int32_t y) { return centroids[x][axis] < centroids[y][axis]; });
   const auto left = static_cast<std::int32_t>(nodes_.size());
   nodes_.push_back({});
   nodes_.push_back({});
   nodes_[node].first = left;
   nodes_[node].count = 0;
-  build(left, order, tris, centroids, begin, mid);
-  build(left + 1, order, tris, centroids, mid, end);
+  build(left, order, tris, centroids, begin, mid, depth + 1);
+  build(left + 1, order, tris, centroids, mid, end, depth + 1);
 }
 
 double MeshSurface::nearest(const Vec3& p, Vec3& closest, std::int32_t& index, double bound2) const {

@@ -62,7 +62,7 @@ class MeshSurface final : public Surface {
 
   // Fills nodes_[node] for the triangles order[begin, end), splitting at the centroid median.
   void build(std::int32_t node, std::vector<std::int32_t>& order, const std::vector<Tri>& tris,
-             const std::vector<Vec3>& centroids, std::int32_t begin, std::int32_t end);
+             const std::vector<Vec3>& centroids, std::int32_t begin, std::int32_t end, int depth);
   // Squared distance, closest point and position in tris_ of the nearest triangle; with a finite
   // `bound2`, only triangles nearer than its root are searched (infinity where there is none).
   double nearest(const Vec3& p, Vec3& closest, std::int32_t& index,
