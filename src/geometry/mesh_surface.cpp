@@ -20,7 +20,7 @@ namespace {
 
 constexpr std::int32_t kLeafSize = 4;
 constexpr int kMaxDepth = 64;  // median splits below kSahDepth: depth <= kSahDepth + log2(2^31) + 1
-constexpr int kSahDepth = 30;
+constexpr int kSahDepth = 30;  // surface-area splits down to here, then medians
 
 Vec3 closest_point_on_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
   const Vec3 ab = b - a;
@@ -132,6 +132,63 @@ MeshSurface::MeshSurface(const TriangleMesh& mesh) {
   }
 }
 
+// Binned surface-area split of order[begin, end) along `axis` (16 bins over the centroids' extent
+// [clo, chi]): boxes that hug the surface's pieces, so a search opens fewer of them than after median
+// splits (docs/benchmarks.md "Mesh distance against Embree's point query"). Partitions order and returns
+// the split, or -1 where no bin boundary separates the triangles.
+std::int32_t MeshSurface::split_by_area(std::vector<std::int32_t>& order, const std::vector<Tri>& tris,
+                                        const std::vector<Vec3>& centroids, std::int32_t begin,
+                                        std::int32_t end, int axis, const Vec3& clo, const Vec3& chi) {
+  constexpr int kBins = 16;
+  const double extent = chi[axis] - clo[axis];
+  if (!(extent > 0.0)) return -1;
+  struct Bin {
+    Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+    std::int32_t count = 0;
+  };
+  std::array<Bin, kBins> bins;
+  const auto bin_of = [&](std::int32_t t) {
+    return std::min(kBins - 1, static_cast<int>(kBins * (centroids[t][axis] - clo[axis]) / extent));
+  };
+  for (std::int32_t i = begin; i < end; ++i) {
+    const Tri& t = tris[order[i]];
+    Bin& b = bins[static_cast<std::size_t>(bin_of(order[i]))];
+    b.lo = b.lo.cwiseMin(t.a).cwiseMin(t.b).cwiseMin(t.c);
+    b.hi = b.hi.cwiseMax(t.a).cwiseMax(t.b).cwiseMax(t.c);
+    ++b.count;
+  }
+  const auto area = [](const Vec3& l, const Vec3& h) {
+    if (!(l.x() <= h.x())) return 0.0;
+    const Vec3 e = h - l;
+    return e.x() * e.y() + e.y() * e.z() + e.z() * e.x();
+  };
+  // Cost of a split after bin b: area times count of each side.
+  std::array<double, kBins> right_cost{};
+  Bin right;
+  for (int b = kBins - 1; b > 0; --b) {
+    const Bin& bin = bins[static_cast<std::size_t>(b)];
+    right = {right.lo.cwiseMin(bin.lo), right.hi.cwiseMax(bin.hi), right.count + bin.count};
+    right_cost[static_cast<std::size_t>(b)] = area(right.lo, right.hi) * right.count;
+  }
+  Bin left;
+  double best = std::numeric_limits<double>::infinity();
+  int split = -1;
+  for (int b = 0; b < kBins - 1; ++b) {
+    const Bin& bin = bins[static_cast<std::size_t>(b)];
+    left = {left.lo.cwiseMin(bin.lo), left.hi.cwiseMax(bin.hi), left.count + bin.count};
+    if (left.count == 0 || left.count == end - begin) continue;
+    const double cost = area(left.lo, left.hi) * left.count + right_cost[static_cast<std::size_t>(b + 1)];
+    if (cost < best) {
+      best = cost;
+      split = b;
+    }
+  }
+  if (split < 0) return -1;
+  const auto middle = std::stable_partition(order.begin() + begin, order.begin() + end,
+                                            [&](std::int32_t t) { return bin_of(t) <= split; });
+  return static_cast<std::int32_t>(middle - order.begin());
+}
+
 void MeshSurface::build(std::int32_t node, std::vector<std::int32_t>& order, const std::vector<Tri>& tris,
                         const std::vector<Vec3>& centroids, std::int32_t begin, std::int32_t end, int depth) {
   Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
@@ -148,64 +205,13 @@ void MeshSurface::build(std::int32_t node, std::vector<std::int32_t>& order, con
 
   int axis = 0;
   (chi - clo).maxCoeff(&axis);
-  std::int32_t mid = begin + (end - begin) / 2;
-  const double extent = chi[axis] - clo[axis];
-  if (depth < kSahDepth && extent > 0.0) {
-    // Binned surface-area split: boxes that hug the surface's pieces.
-    constexpr int kBins = 16;
-    struct Bin {
-      Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-      std::int32_t count = 0;
-    };
-    std::array<Bin, kBins> bins;
-    const auto bin_of = [&](std::int32_t t) {
-      return std::min(kBins - 1, static_cast<int>(kBins * (centroids[t][axis] - clo[axis]) / extent));
-    };
-    for (std::int32_t i = begin; i < end; ++i) {
-      const Tri& t = tris[order[i]];
-      Bin& b = bins[static_cast<std::size_t>(bin_of(order[i]))];
-      b.lo = b.lo.cwiseMin(t.a).cwiseMin(t.b).cwiseMin(t.c);
-      b.hi = b.hi.cwiseMax(t.a).cwiseMax(t.b).cwiseMax(t.c);
-      ++b.count;
-    }
-    const auto area = [](const Vec3& l, const Vec3& h) {
-      if (!(l.x() <= h.x())) return 0.0;
-      const Vec3 e = h - l;
-      return e.x() * e.y() + e.y() * e.z() + e.z() * e.x();
-    };
-    std::array<double, kBins> right_cost{};
-    Vec3 rlo = Vec3::Constant(std::numeric_limits<double>::infinity()), rhi = -rlo;
-    std::int32_t rcount = 0;
-    for (int b = kBins - 1; b > 0; --b) {
-      rlo = rlo.cwiseMin(bins[static_cast<std::size_t>(b)].lo);
-      rhi = rhi.cwiseMax(bins[static_cast<std::size_t>(b)].hi);
-      rcount += bins[static_cast<std::size_t>(b)].count;
-      right_cost[static_cast<std::size_t>(b)] = area(rlo, rhi) * rcount;
-    }
-    Vec3 llo = Vec3::Constant(std::numeric_limits<double>::infinity()), lhi = -llo;
-    std::int32_t lcount = 0;
-    double best = std::numeric_limits<double>::infinity();
-    int split = -1;
-    for (int b = 0; b < kBins - 1; ++b) {
-      llo = llo.cwiseMin(bins[static_cast<std::size_t>(b)].lo);
-      lhi = lhi.cwiseMax(bins[static_cast<std::size_t>(b)].hi);
-      lcount += bins[static_cast<std::size_t>(b)].count;
-      if (lcount == 0 || lcount == end - begin) continue;
-      const double cost = area(llo, lhi) * lcount + right_cost[static_cast<std::size_t>(b + 1)];
-      if (cost < best) {
-        best = cost;
-        split = b;
-      }
-    }
-    if (split >= 0) {
-      const auto middle = std::stable_partition(order.begin() + begin, order.begin() + end,
-                                                [&](std::int32_t t) { return bin_of(t) <= split; });
-      mid = static_cast<std::int32_t>(middle - order.begin());
-    }
-  }
-  if (mid == begin + (end - begin) / 2 || depth >= kSahDepth || !(extent > 0.0))
+  std::int32_t mid =
+      depth < kSahDepth ? split_by_area(order, tris, centroids, begin, end, axis, clo, chi) : -1;
+  if (mid < 0) {
+    mid = begin + (end - begin) / 2;
     std::nth_element(order.begin() + begin, order.begin() + mid, order.begin() + end,
                      [&](std::int32_t x, std::int32_t y) { return centroids[x][axis] < centroids[y][axis]; });
+  }
   const auto left = static_cast<std::int32_t>(nodes_.size());
   nodes_.push_back({});
   nodes_.push_back({});

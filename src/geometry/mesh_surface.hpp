@@ -60,9 +60,13 @@ class MeshSurface final : public Surface {
     double radius = 0.0;
   };
 
-  // Fills nodes_[node] for the triangles order[begin, end), splitting at the centroid median.
+  // Fills nodes_[node] for the triangles order[begin, end), split by surface area (split_by_area)
+  // above depth kSahDepth, at the centroids' median below it or where that split fails.
   void build(std::int32_t node, std::vector<std::int32_t>& order, const std::vector<Tri>& tris,
              const std::vector<Vec3>& centroids, std::int32_t begin, std::int32_t end, int depth);
+  static std::int32_t split_by_area(std::vector<std::int32_t>& order, const std::vector<Tri>& tris,
+                                    const std::vector<Vec3>& centroids, std::int32_t begin, std::int32_t end,
+                                    int axis, const Vec3& clo, const Vec3& chi);
   // Squared distance, closest point and position in tris_ of the nearest triangle; with a finite
   // `bound2`, only triangles nearer than its root are searched (infinity where there is none).
   double nearest(const Vec3& p, Vec3& closest, std::int32_t& index,
