@@ -33,8 +33,9 @@ struct BandOptions {
   ClosestPointRule closest_point = ClosestPointRule::exact;
   StageProgress progress{};  // the build's share of its stage: checked and reported in its long loops
   // The largest |grad_h psi| the scan allows for: only points with |psi| < delta times this can pass the
-  // band rule. sqrt(3) bounds it for every 1-Lipschitz psi, which makes the band exact. A preview takes
-  // kLikelyGradientBound: its scan then reaches 3.1 h instead of 4.3 h (a third fewer distance queries).
+  // band rule. sqrt(3) bounds it for every 1-Lipschitz psi, which makes the band exact. A preview of a
+  // surface with exact closest points takes kLikelyGradientBound: its scan then reaches 3.1 h instead of
+  // 4.3 h (a quarter fewer distance queries).
   double gradient_bound = 1.7320508075688772;
 };
 

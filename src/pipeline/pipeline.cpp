@@ -174,7 +174,9 @@ PipelineResult run_pipeline(const Input& input, const Options& given, RunMonitor
   // Optional so that shell mode can free it before meshing, the stage with the largest footprint.
   BandOptions band_options;
   band_options.progress = StageProgress(monitor);
-  if (options.preview) band_options.gradient_bound = kLikelyGradientBound;
+  // Measured on distances to meshes, shapes and splats; a sampled level set's gradient is its samples'.
+  if (options.preview && placed.surface->closest_point_is_exact())
+    band_options.gradient_bound = kLikelyGradientBound;
   std::optional<NarrowBand> band_storage(build_band(*placed.surface, grid, band_options));
   const NarrowBand& band = *band_storage;
   release_free_memory();
