@@ -131,8 +131,8 @@ std::vector<double> solid_zones(const Options& c, const PlacedSurface& placed, c
   const auto blend = [](double m) { return std::clamp(2.0 * (m - 0.25), 0.0, 1.0); };
   if (mask || features.thin)
     tbb::parallel_for(std::size_t{0}, band.size(), [&](std::size_t v) {
-      const Vec3 x = band.grid().position(band.voxels()[v]);
-      if (mask) weight[v] = std::max(weight[v], blend(mask(placed.to_mm(x))));
+      if (mask)
+        weight[v] = std::max(weight[v], blend(mask(placed.to_mm(band.grid().position(band.voxels()[v])))));
       // Asked at the voxel's closest point, where the mark belongs: a query on the surface prunes the
       // search at once (the thin zones took 0.09 s of the bunny's 1.6 s preview asked at the voxel).
       if (features.thin) weight[v] = std::max(weight[v], blend(features.thin(band.closest_point(v))));
