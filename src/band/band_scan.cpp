@@ -6,6 +6,7 @@
 #include <bit>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "core/parallel.hpp"
 
@@ -27,6 +28,9 @@ NearField::NearField(const Surface& surface, const Grid& grid, double reach, con
     const auto bk = static_cast<int>(r / static_cast<std::size_t>(blocks_per_axis_[1]));
     std::array<double, kSlots> psi;
     std::array<Vec3, kSlots> closest;
+    // The last closest point found in this row: the next point's is near it (rows are scanned in order,
+    // so the results do not depend on the threads).
+    std::optional<Vec3> last;
     for (int bi = 0; bi < blocks_per_axis_[0]; ++bi) {
       const Coord origin{bi * kBlock, bj * kBlock, bk * kBlock};
       BlockEntry entry;
@@ -35,9 +39,11 @@ NearField::NearField(const Surface& surface, const Grid& grid, double reach, con
       const bool near = for_each_point_near(surface, grid, origin, kBlock, reach, [&](const Coord& c) {
         const Vec3 x = grid.position(c);
         SurfaceQuery q;
-        if (exact_)
-          q = surface.distance_and_closest_point(x);
-        else
+        if (exact_) {
+          q = last ? surface.distance_and_closest_point_near(x, *last)
+                   : surface.distance_and_closest_point(x);
+          last = q.closest_point;
+        } else
           q.distance = surface.distance(x);
         if (!(std::abs(q.distance) < reach)) return std::abs(q.distance);
         const auto slot = static_cast<std::size_t>((c.i - origin.i) +

@@ -292,6 +292,17 @@ SurfaceQuery MeshSurface::distance_and_closest_point(const Vec3& p) const {
   return {std::sqrt(d2), closest};
 }
 
+// The search starts bounded by the hint's distance: boxes beyond it are never opened, where an
+// unbounded search first descends into whichever box holds p and only then prunes.
+SurfaceQuery MeshSurface::distance_and_closest_point_near(const Vec3& p, const Vec3& on_surface) const {
+  Vec3 closest;
+  std::int32_t index = -1;
+  const double bound = (p - on_surface).norm() * (1.0 + 1e-9) + std::numeric_limits<double>::min();
+  const double d2 = nearest(p, closest, index, bound * bound);
+  if (index < 0) return distance_and_closest_point(p);  // the hint was not on the surface
+  return {std::sqrt(d2), closest};
+}
+
 MeshSurface::NearestTriangle MeshSurface::nearest_triangle(const Vec3& p) const {
   NearestTriangle out;
   std::int32_t index = 0;

@@ -31,6 +31,7 @@ class MeshSurface final : public Surface {
   std::optional<Vec3> closest_point(const Vec3& p) const override;
   bool closest_point_is_exact() const override { return true; }
   SurfaceQuery distance_and_closest_point(const Vec3& p) const override;  // one search
+  SurfaceQuery distance_and_closest_point_near(const Vec3& p, const Vec3& on_surface) const override;
   double distance_up_to(const Vec3& p, double bound) const override;
   Box bounds() const override;
   std::string name() const override { return "mesh"; }

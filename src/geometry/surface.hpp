@@ -38,6 +38,14 @@ class Surface {
     return {distance(p), closest_point(p)};
   }
 
+  // distance_and_closest_point(p), given a point on the surface near p (the last query's closest point,
+  // in a scan of neighbouring points): the nearest is no further than it, which can only shorten the
+  // search. The same distance; at an exact tie between two closest points either may be returned.
+  virtual SurfaceQuery distance_and_closest_point_near(const Vec3& p, const Vec3& on_surface) const {
+    static_cast<void>(on_surface);
+    return distance_and_closest_point(p);
+  }
+
   // distance(p) where |distance(p)| <= bound, else any value beyond the bound on the same side: what
   // deciding "out of reach" needs. Sources whose search can stop at the bound (a mesh's tree) override it.
   virtual double distance_up_to(const Vec3& p, double bound) const {

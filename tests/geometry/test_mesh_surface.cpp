@@ -451,6 +451,27 @@ TEST(MeshSurface, BoundedDistanceIsExactWithinTheBoundAndAboveItBeyond) {
   EXPECT_GT(beyond, 100);
 }
 
+// A hint on the surface bounds the search and leaves the answer: the closest point of a neighbouring
+// query (as the band's scan gives it), a far point of the surface, and a hint off the surface nearer
+// than the surface itself (a caller's mistake: the search then starts over unbounded).
+TEST(MeshSurface, AHintedQueryFindsTheSameNearestPoint) {
+  const MeshSurface surface(holed_sphere());
+  std::mt19937 rng(14);
+  std::uniform_real_distribution<double> u(-1.5, 1.5), step(-0.05, 0.05);
+  for (int i = 0; i < 2000; ++i) {
+    const Vec3 p(u(rng), u(rng), u(rng));
+    const SurfaceQuery exact = surface.distance_and_closest_point(p);
+    const Vec3 neighbour = p + Vec3(step(rng), step(rng), step(rng));
+    const Vec3 hints[] = {*surface.closest_point(neighbour), *surface.closest_point(-p),
+                          p + 0.5 * (*exact.closest_point - p)};
+    for (const Vec3& hint : hints) {
+      const SurfaceQuery hinted = surface.distance_and_closest_point_near(p, hint);
+      ASSERT_EQ(hinted.distance, exact.distance) << i;
+      ASSERT_LT((*hinted.closest_point - *exact.closest_point).norm(), 1e-12) << i;
+    }
+  }
+}
+
 // nearest_triangle names a triangle of the input mesh (not of the tree's leaf order), never one that is
 // skipped for a repeated vertex, and gives closest_point's point.
 TEST(MeshSurface, NearestTriangleIndexesTheInputTriangles) {
