@@ -82,8 +82,11 @@
     if (finite(requestedDiameter)) row(req, 'Hole diameter', mm(requestedDiameter));
     if (finite(requested.spacing_mm)) row(req, 'Spacing', mm(requested.spacing_mm));
     if (finite(requested.porosity) && requested.porosity > 0) row(req, 'Porosity', pct(requested.porosity));
+    // A preview makes no wall: the request shows one only where it was asked for.
+    const preview = report.preview === true;
+    const wallAsked = !preview || (finite((report.settings || {}).wall) && report.settings.wall > 0);
     const wallRequested = finite(wall.requested_mm) ? wall.requested_mm : solid.wall_mm;
-    if (finite(wallRequested)) row(req, 'Wall', mm(wallRequested));
+    if (wallAsked && finite(wallRequested)) row(req, 'Wall', mm(wallRequested));
     if (!req.children.length) req.outerHTML = '<div class="none">no hole request (model parameters)</div>';
 
     const m = document.getElementById('measured');
@@ -92,7 +95,6 @@
     row(m, 'Spacing', mm(figures.spacingMean), 'CV ' + pct(figures.spacingCv));
     if (finite(figures.porosity)) row(m, 'Porosity', pct(figures.porosity));
     // A preview has no solid: no wall, triangle count, volume or mass to show (its report holds zeros).
-    const preview = report.preview === true;
     if (!preview && finite(wall.measured_median_mm))
       row(m, 'Wall', mm(wall.measured_median_mm), fmt(wall.measured_min_mm, 2) + '–' + fmt(wall.measured_max_mm, 2));
     if (!preview && finite(meshReport.triangles)) row(m, 'Triangles', meshReport.triangles.toLocaleString('en'));

@@ -1,6 +1,8 @@
 #pragma once
 // Synthetic data for the viewer's tests: a sphere of radius 40 mm centred off the origin, with holes
-// cut on a Fibonacci lattice (diameters 6 mm +- 20 %), a keep-out sphere and box, and a report.
+// cut on a Fibonacci lattice (diameters 6 mm +- 20 %), a keep-out sphere and box, and a report. As a
+// preview: the whole sphere with the holes painted on (a pattern value per vertex), holes without
+// measured loops, and a preview's report (no solid: its figures are zeros).
 
 #include <cmath>
 #include <numbers>
@@ -9,7 +11,7 @@
 
 namespace poreshell::testing {
 
-inline ViewerData viewer_test_data(int holes = 40) {
+inline ViewerData viewer_test_data(int holes = 40, bool preview = false) {
   ViewerData data;
   data.title = "Sphere <test> & holes";
   const Vec3 centre(10.0, -5.0, 20.0);
@@ -23,8 +25,8 @@ inline ViewerData viewer_test_data(int holes = 40) {
     h.centre = centre + radius * n;
     h.normal = n;
     h.diameter_mm = 6.0 * (1.0 + 0.2 * std::sin(1.7 * i));
-    h.circularity = 0.9 + 0.1 * std::cos(i);
-    h.axis_ratio = 0.8 + 0.2 * std::sin(0.3 * i);
+    h.circularity = preview ? 0.0 : 0.9 + 0.1 * std::cos(i);
+    h.axis_ratio = preview ? 0.0 : 0.8 + 0.2 * std::sin(0.3 * i);
     data.holes.push_back(h);
   }
   for (ViewerHole& h : data.holes) {
@@ -42,6 +44,7 @@ inline ViewerData viewer_test_data(int holes = 40) {
     }
   const auto index = [&](int r, int s) { return r * segments + (s % segments); };
   const auto outside_holes = [&](std::array<std::int32_t, 3> t) {
+    if (preview) return true;
     const Vec3 c = (data.mesh.vertices[t[0]] + data.mesh.vertices[t[1]] + data.mesh.vertices[t[2]]) / 3.0;
     for (const ViewerHole& h : data.holes)
       if ((c - h.centre).norm() < 0.5 * h.diameter_mm) return false;
@@ -53,6 +56,13 @@ inline ViewerData viewer_test_data(int holes = 40) {
       const std::array<std::int32_t, 3> b{index(r, s), index(r + 1, s + 1), index(r, s + 1)};
       if (r > 0 && outside_holes(a)) data.mesh.triangles.push_back(a);
       if (r + 1 < rings && outside_holes(b)) data.mesh.triangles.push_back(b);
+    }
+  if (preview)
+    for (const Vec3& v : data.mesh.vertices) {
+      double open = -1.0;
+      for (const ViewerHole& h : data.holes)
+        open = std::max(open, 0.5 * h.diameter_mm - (v - h.centre).norm());
+      data.pattern.push_back(static_cast<float>(open));
     }
   data.requested_diameter_mm = 6.0;
   data.rim_width_mm = 2.0;
@@ -83,6 +93,20 @@ inline ViewerData viewer_test_data(int holes = 40) {
           {"measured_min_mm", 1.95},
           {"measured_max_mm", 2.08}}},
         {"outputs", {{{"path", "out/sphere.stl"}}, {{"path", "out/sphere.3mf"}}}}}}};
+  if (preview) {
+    data.report["preview"] = true;
+    data.report["settings"] = {{"wall", 0.0}, {"hole_diameter", 6.0}, {"spacing", 10.0}};
+    nlohmann::json& mesh = data.report["mesh"];
+    mesh["path"] = "out/sphere.ply";
+    mesh["outputs"] = {{{"path", "out/sphere.ply"}}};
+    mesh["triangles"] = 0;
+    mesh["volume"] = 0.0;
+    mesh["wall"] = {{"requested_mm", 2.0},
+                    {"measured_median_mm", 0.0},
+                    {"measured_min_mm", 0.0},
+                    {"measured_max_mm", 0.0},
+                    {"probes", 0}};
+  }
   return data;
 }
 

@@ -1,17 +1,23 @@
 // Browser checks of the viewer page, in Debian's chromium driven headless by puppeteer-core:
-//   node viewer_page.test.mjs CHECK PAGE.html EXPECTED.json
-// CHECK: loads (no console errors, no requests but the page's own), canvas (the screenshot's view is
+//   node viewer_page.test.mjs CHECKS PAGE.html EXPECTED.json
+// CHECKS: a comma-separated list, run in order on one load of the page in one browser (starting the
+// browser and loading the page take most of the time; no check below changes what a later one reads),
+// or `all`:
+// loads (no console errors, no requests but the page's own), canvas (the screenshot's view is
 // not blank), hole_count (the panel's count is the data's), click_hole (clicking a hole's centre shows
-// its diameter), click_surface (clicking the surface shows the point's coordinates).
+// its diameter), click_surface (clicking the surface shows the point's coordinates), panel (a full
+// run's panel shows its solid: wall, triangles, volume; a preview's says it is one and shows none of
+// them, nor a wall that was not asked for).
 // Exits 0 on success, 1 on failure, 77 (ctest's skip) without chromium or puppeteer-core.
 import { existsSync, readFileSync } from 'node:fs';
 import { pathToFileURL } from 'node:url';
 import { inflateSync } from 'node:zlib';
 
 const SKIP = 77;
-const [check, pagePath, expectedPath] = process.argv.slice(2);
-if (!check || !pagePath || !expectedPath) {
-  console.error('usage: node viewer_page.test.mjs CHECK PAGE.html EXPECTED.json');
+const ALL = ['loads', 'canvas', 'hole_count', 'click_hole', 'click_surface', 'panel'];
+const [checkList, pagePath, expectedPath] = process.argv.slice(2);
+if (!checkList || !pagePath || !expectedPath) {
+  console.error('usage: node viewer_page.test.mjs CHECKS PAGE.html EXPECTED.json');
   process.exit(2);
 }
 
@@ -31,8 +37,10 @@ try {
 
 const expected = JSON.parse(readFileSync(expectedPath, 'utf8'));
 const url = pathToFileURL(pagePath).href;
+const checks = checkList === 'all' ? ALL : checkList.split(',');
 const failures = [];
-const expect = (ok, message) => { if (!ok) failures.push(message); };
+let check = '';
+const expect = (ok, message) => { if (!ok) failures.push(check + ': ' + message); };
 
 const browser = await puppeteer.launch({
   executablePath: chromium,
@@ -50,75 +58,96 @@ try {
   page.on('request', (r) => { if (r.url() !== url) requests.push(r.url()); });
   await page.goto(url, { waitUntil: 'load', timeout: 30000 });
   await page.waitForSelector('body[data-ready="1"]', { timeout: 20000 });
+  for (check of checks) {
 
-  if (check === 'loads') {
-    expect(errors.length === 0, 'console errors: ' + errors.join(' | '));
-    expect(requests.length === 0, 'requests besides the page: ' + requests.join(' '));
-    expect(await page.$('#view canvas') !== null, 'no canvas');
-  } else if (check === 'canvas') {
-    const box = await (await page.$('#view canvas')).boundingBox();
-    const png = await page.screenshot({ clip: box, type: 'png' });
-    const image = decodePng(png);
-    // The view's background is one colour (its top-left corner); the model is what differs from it.
-    const bg = image.pixel(2, 2);
-    let differing = 0, tinted = 0;
-    for (let y = 0; y < image.height; y += 2)
-      for (let x = 0; x < image.width; x += 2) {
-        const [r, g, b] = image.pixel(x, y);
-        if (Math.abs(r - bg[0]) + Math.abs(g - bg[1]) + Math.abs(b - bg[2]) > 40) differing++;
-        if (Math.max(r, g, b) - Math.min(r, g, b) > 60) tinted++;  // the holes' colours, the zones' lines
+    if (check === 'loads') {
+      expect(errors.length === 0, 'console errors: ' + errors.join(' | '));
+      expect(requests.length === 0, 'requests besides the page: ' + requests.join(' '));
+      expect(await page.$('#view canvas') !== null, 'no canvas');
+    } else if (check === 'canvas') {
+      const box = await (await page.$('#view canvas')).boundingBox();
+      const png = await page.screenshot({ clip: box, type: 'png' });
+      const image = decodePng(png);
+      // The view's background is one colour (its top-left corner); the model is what differs from it.
+      const bg = image.pixel(2, 2);
+      let differing = 0, tinted = 0;
+      for (let y = 0; y < image.height; y += 2)
+        for (let x = 0; x < image.width; x += 2) {
+          const [r, g, b] = image.pixel(x, y);
+          if (Math.abs(r - bg[0]) + Math.abs(g - bg[1]) + Math.abs(b - bg[2]) > 40) differing++;
+          if (Math.max(r, g, b) - Math.min(r, g, b) > 60) tinted++;  // the holes' colours, the zones' lines
+        }
+      const samples = Math.ceil(image.width / 2) * Math.ceil(image.height / 2);
+      console.log(`canvas ${image.width}x${image.height}: ${(100 * differing / samples).toFixed(1)} % model, ` +
+                  `${(100 * tinted / samples).toFixed(2)} % coloured`);
+      expect(differing / samples > 0.1, 'the canvas is nearly blank');
+      expect(tinted / samples > 0.002, 'no coloured holes in view');
+    } else if (check === 'hole_count') {
+      const text = await page.$eval('#hole-count', (e) => e.textContent.trim());
+      expect(text === String(expected.hole_count), `panel says ${text} holes, the data has ${expected.hole_count}`);
+      const count = await page.evaluate(() => window.poreshellViewer.holeCount);
+      expect(count === expected.hole_count, `the page read ${count} holes, the data has ${expected.hole_count}`);
+    } else if (check === 'click_hole') {
+      // The hole most squarely facing the camera, well inside the view.
+      let best = null;
+      for (const [i, h] of expected.holes.entries()) {
+        const s = await page.evaluate((c, n) => window.poreshellViewer.project(...c, ...n), h.centre, h.normal);
+        if (!s.inView || !s.facing) continue;
+        const cam = await page.evaluate((c, n) => window.poreshellViewer.facing(...c, ...n), h.centre, h.normal);
+        if (!best || cam > best.cam) best = { i, s, cam };
       }
-    const samples = Math.ceil(image.width / 2) * Math.ceil(image.height / 2);
-    console.log(`canvas ${image.width}x${image.height}: ${(100 * differing / samples).toFixed(1)} % model, ` +
-                `${(100 * tinted / samples).toFixed(2)} % coloured`);
-    expect(differing / samples > 0.1, 'the canvas is nearly blank');
-    expect(tinted / samples > 0.002, 'no coloured holes in view');
-  } else if (check === 'hole_count') {
-    const text = await page.$eval('#hole-count', (e) => e.textContent.trim());
-    expect(text === String(expected.hole_count), `panel says ${text} holes, the data has ${expected.hole_count}`);
-    const count = await page.evaluate(() => window.poreshellViewer.holeCount);
-    expect(count === expected.hole_count, `the page read ${count} holes, the data has ${expected.hole_count}`);
-  } else if (check === 'click_hole') {
-    // The hole most squarely facing the camera, well inside the view.
-    let best = null;
-    for (const [i, h] of expected.holes.entries()) {
-      const s = await page.evaluate((c, n) => window.poreshellViewer.project(...c, ...n), h.centre, h.normal);
-      if (!s.inView || !s.facing) continue;
-      const cam = await page.evaluate((c, n) => window.poreshellViewer.facing(...c, ...n), h.centre, h.normal);
-      if (!best || cam > best.cam) best = { i, s, cam };
+      expect(best !== null, 'no hole faces the camera');
+      if (best) {
+        await page.mouse.click(best.s.x, best.s.y);
+        const shown = await page.$eval('#selection', (e) => ({ hole: e.dataset.hole, text: e.textContent }));
+        const diameter = expected.holes[best.i].diameter_mm.toFixed(2) + ' mm';
+        expect(shown.hole === String(best.i), `clicked hole ${best.i}, the panel shows hole ${shown.hole}`);
+        expect(shown.text.includes(diameter), `the panel does not show ${diameter}: ${shown.text}`);
+      }
+    } else if (check === 'click_surface') {
+      // A point on the sphere facing the camera, halfway between the two holes nearest the view's centre.
+      const { centre, radius } = expected.sphere;
+      const camera = await page.evaluate(() => window.poreshellViewer.cameraPosition());
+      const toward = camera.map((c, k) => c - centre[k]);
+      const n = Math.hypot(...toward);
+      const holes = expected.holes.map((h) => ({ h, d: Math.hypot(...h.normal.map((c, k) => c - toward[k] / n)) }))
+        .sort((a, b) => a.d - b.d);
+      let normal = holes[0].h.normal.map((c, k) => c + holes[1].h.normal[k]);
+      const len = Math.hypot(...normal);
+      normal = normal.map((c) => c / len);
+      const point = centre.map((c, k) => c + radius * normal[k]);
+      const s = await page.evaluate((p, q) => window.poreshellViewer.project(...p, ...q), point, normal);
+      expect(s.inView && s.facing, 'the point is not in view');
+      await page.mouse.click(s.x, s.y);
+      const shown = await page.$eval('#selection', (e) => e.dataset.point || '');
+      const xyz = shown.split(',').map(Number);
+      const error = xyz.length === 3 ? Math.hypot(...xyz.map((c, k) => c - point[k])) : Infinity;
+      console.log(`clicked (${point.map((c) => c.toFixed(2))}), shown (${shown}), ${error.toFixed(3)} mm apart`);
+      expect(error < 1.0, `the panel shows (${shown}) for the point (${point.map((c) => c.toFixed(2))})`);
+      const arg = await page.$eval('#keep-out-arg', (e) => e.textContent);
+      expect(arg.startsWith('--keep-out ' + shown + ','), 'no --keep-out argument: ' + arg);
+    } else if (check === 'panel') {
+      const labels = (id) => page.$$eval('#' + id + ' dt', (dts) => dts.map((d) => d.textContent));
+      const request = await labels('request'), measured = await labels('measured');
+      const note = await page.$eval('#print', (e) => e.textContent);
+      const volume = await page.$eval('#volume', (e) => e.textContent).catch(() => '');
+      console.log(`request: ${request.join(', ')}; measured: ${measured.join(', ')}; print: ${note.trim()}`);
+      if (expected.preview) {
+        expect(note.includes('a preview'), 'the panel does not say it is a preview: ' + note);
+        for (const label of ['Wall', 'Triangles'])
+          expect(!measured.includes(label), `a preview's panel shows a measured ${label}`);
+        expect(!request.includes('Wall'), 'a preview\'s request shows a wall that was not asked for');
+        expect(volume === '', 'a preview\'s panel shows a volume: ' + volume);
+      } else {
+        for (const label of ['Wall', 'Triangles'])
+          expect(measured.includes(label), `the panel shows no measured ${label}`);
+        expect(request.includes('Wall'), 'the request shows no wall');
+        expect(/\d cm³/.test(volume), 'the panel shows no volume: ' + volume);
+      }
+    } else {
+      failures.push('unknown check ' + check);
     }
-    expect(best !== null, 'no hole faces the camera');
-    if (best) {
-      await page.mouse.click(best.s.x, best.s.y);
-      const shown = await page.$eval('#selection', (e) => ({ hole: e.dataset.hole, text: e.textContent }));
-      const diameter = expected.holes[best.i].diameter_mm.toFixed(2) + ' mm';
-      expect(shown.hole === String(best.i), `clicked hole ${best.i}, the panel shows hole ${shown.hole}`);
-      expect(shown.text.includes(diameter), `the panel does not show ${diameter}: ${shown.text}`);
-    }
-  } else if (check === 'click_surface') {
-    // A point on the sphere facing the camera, halfway between the two holes nearest the view's centre.
-    const { centre, radius } = expected.sphere;
-    const camera = await page.evaluate(() => window.poreshellViewer.cameraPosition());
-    const toward = camera.map((c, k) => c - centre[k]);
-    const n = Math.hypot(...toward);
-    const holes = expected.holes.map((h) => ({ h, d: Math.hypot(...h.normal.map((c, k) => c - toward[k] / n)) }))
-      .sort((a, b) => a.d - b.d);
-    let normal = holes[0].h.normal.map((c, k) => c + holes[1].h.normal[k]);
-    const len = Math.hypot(...normal);
-    normal = normal.map((c) => c / len);
-    const point = centre.map((c, k) => c + radius * normal[k]);
-    const s = await page.evaluate((p, q) => window.poreshellViewer.project(...p, ...q), point, normal);
-    expect(s.inView && s.facing, 'the point is not in view');
-    await page.mouse.click(s.x, s.y);
-    const shown = await page.$eval('#selection', (e) => e.dataset.point || '');
-    const xyz = shown.split(',').map(Number);
-    const error = xyz.length === 3 ? Math.hypot(...xyz.map((c, k) => c - point[k])) : Infinity;
-    console.log(`clicked (${point.map((c) => c.toFixed(2))}), shown (${shown}), ${error.toFixed(3)} mm apart`);
-    expect(error < 1.0, `the panel shows (${shown}) for the point (${point.map((c) => c.toFixed(2))})`);
-    const arg = await page.$eval('#keep-out-arg', (e) => e.textContent);
-    expect(arg.startsWith('--keep-out ' + shown + ','), 'no --keep-out argument: ' + arg);
-  } else {
-    failures.push('unknown check ' + check);
+    console.log(`viewer ${check}: ${failures.some((f) => f.startsWith(check + ': ')) ? 'FAILED' : 'passed'}`);
   }
 } finally {
   await browser.close();
@@ -128,7 +157,7 @@ if (failures.length) {
   for (const f of failures) console.error('FAIL: ' + f);
   process.exit(1);
 }
-console.log(`viewer ${check}: passed`);
+console.log(`viewer ${checks.join(', ')}: passed`);
 
 // A PNG decoder for 8-bit RGB/RGBA non-interlaced images (what Chromium writes).
 function decodePng(buffer) {
