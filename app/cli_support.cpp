@@ -110,8 +110,8 @@ std::string input_name(const poreshell::Input& input) {
 }
 
 // The run's estimate, its warnings naming flags.
-poreshell::Estimate estimate_with_flags(const poreshell::Input& input, const poreshell::Options& options) {
-  poreshell::Estimate e = poreshell::estimate(input, options);
+poreshell::Estimate estimate_with_flags(const poreshell::Prepared& prepared) {
+  poreshell::Estimate e = poreshell::estimate(prepared);
   for (std::string& warning : e.warnings) warning = with_flags(warning);
   return e;
 }

@@ -29,7 +29,7 @@ std::string unknown_argument_message(const CLI::App& app, const std::string& arg
 std::string input_name(const poreshell::Input& input);
 
 // The run's estimate, its warnings naming flags.
-poreshell::Estimate estimate_with_flags(const poreshell::Input& input, const poreshell::Options& options);
+poreshell::Estimate estimate_with_flags(const poreshell::Prepared& prepared);
 
 // One line on stderr and the usage exit code.
 int usage_error(const std::string& message);

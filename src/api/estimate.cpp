@@ -15,7 +15,7 @@
 #include "geometry/refine.hpp"
 #include "input/placement.hpp"
 #include "pattern/hole_map.hpp"
-#include "pipeline/validate.hpp"
+#include "pipeline/pipeline.hpp"
 #include "poreshell/poreshell.hpp"
 #include "shell/shell.hpp"
 
@@ -80,19 +80,12 @@ void size_warnings(const Estimate& e, const Input& input, const Options& o, std:
   out.push_back(text);
 }
 
-}  // namespace
-
-Estimate estimate(const Input& input, const Options& given) {
-  validate(given);
-  Options options = given;
-  std::optional<PatternPlan> plan;
-  if (options.hole_diameter > 0.0 || options.spacing > 0.0 || options.porosity > 0.0) {
-    plan = plan_pattern({options.hole_diameter, options.spacing, options.porosity});
-    options.voxel_size = choose_voxel_size(options.voxel_size, *plan);
-    // As the pipeline: a preview runs on the pattern's own grid, never finer.
-    if (options.preview) options.voxel_size = std::max(options.voxel_size, plan->voxel_size);
-  }
-  const PlacedSurface placed = place_surface(input, options);
+// The estimate from the input as the run will place it.
+Estimate estimate_prepared(const Input& input, const PreparedInput& prepared) {
+  const Options& given = prepared.given;
+  const Options& options = prepared.options;
+  const std::optional<PatternPlan>& plan = prepared.plan;
+  const PlacedSurface& placed = prepared.placed;
   const double mm_per_grid = placed.mm_per_grid();
   Estimate e;
   const Box box = placed.surface->bounds();
@@ -155,6 +148,18 @@ Estimate estimate(const Input& input, const Options& given) {
     e.warnings.push_back(fmt::format("the output may be about {:.0f} MB as STL; `max_triangles` reduces it",
                                      e.stl_bytes / 1e6));
   return e;
+}
+
+}  // namespace
+
+Estimate estimate(const Input& input, const Options& options) {
+  return estimate_prepared(input, prepare_input(input, options));
+}
+
+Estimate estimate(const Prepared& prepared) {
+  if (!prepared.input || !prepared.state)
+    throw Error(ErrorCode::invalid_option, "estimate: the Prepared was not made by prepare()");
+  return estimate_prepared(*prepared.input, *prepared.state);
 }
 
 }  // namespace poreshell

@@ -29,40 +29,15 @@ const char* version() {
   return PORESHELL_VERSION;
 }
 
-Result perforate(const Input& input, const Options& options, const RunControl& control) {
-  validate(options);
-  RunMonitor monitor(control);
+namespace {
+
+// Runs f in an arena of the options' thread count (so that the count is per run and concurrent runs do
+// not share state), with the library's failures as Error.
+template <class F>
+void in_arena(const Options& options, const F& f) {
   tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
-  Result result;
   try {
-    arena.execute([&] {
-      PipelineResult run = run_pipeline(input, options, monitor);
-      result.report = make_report(run, options);
-      for (MeshOutput& level : run.meshes) {
-        Output out;
-        out.iso = level.iso;
-        out.mesh = to_public(level.mesh);
-        level.mesh = {};  // one copy at a time: meshes run to gigabytes
-        out.pattern = std::move(level.pattern);
-        // A preview has no wall to measure: its holes are the band's spots (no circularity).
-        if (options.preview)
-          for (const BandHole& h : level.holes.holes)
-            out.holes.push_back({{h.centre.x(), h.centre.y(), h.centre.z()},
-                                 {h.normal.x(), h.normal.y(), h.normal.z()},
-                                 h.diameter,
-                                 0.0,
-                                 h.nearest,
-                                 0.0});
-        for (const HoleRecord& h : level.hole_table.holes)
-          out.holes.push_back({{h.centre.x(), h.centre.y(), h.centre.z()},
-                               {h.normal.x(), h.normal.y(), h.normal.z()},
-                               h.diameter,
-                               h.circularity,
-                               h.nearest,
-                               h.axis_ratio});
-        result.outputs.push_back(std::move(out));
-      }
-    });
+    arena.execute(f);
   } catch (const Error&) {
     throw;
   } catch (const std::bad_alloc&) {
@@ -71,7 +46,70 @@ Result perforate(const Input& input, const Options& options, const RunControl& c
   } catch (const std::invalid_argument& e) {
     throw Error(ErrorCode::internal, std::string(e.what()) + "; please report this as a bug");
   }
+}
+
+// The run from a prepared input, or (without one) preparing it first as the input stage's start.
+Result run_and_convert(const Input& input, const Options& options, const PreparedInput* prepared,
+                       const RunControl& control) {
+  RunMonitor monitor(control);
+  Result result;
+  in_arena(options, [&] {
+    PipelineResult run;
+    if (prepared) {
+      run = run_pipeline(input, *prepared, monitor);
+    } else {
+      monitor.stage("input");
+      run = run_pipeline(input, prepare_input(input, options), monitor);
+    }
+    result.report = make_report(run, options);
+    for (MeshOutput& level : run.meshes) {
+      Output out;
+      out.iso = level.iso;
+      out.mesh = to_public(level.mesh);
+      level.mesh = {};  // one copy at a time: meshes run to gigabytes
+      out.pattern = std::move(level.pattern);
+      // A preview has no wall to measure: its holes are the band's spots (no circularity).
+      if (options.preview)
+        for (const BandHole& h : level.holes.holes)
+          out.holes.push_back({{h.centre.x(), h.centre.y(), h.centre.z()},
+                               {h.normal.x(), h.normal.y(), h.normal.z()},
+                               h.diameter,
+                               0.0,
+                               h.nearest,
+                               0.0});
+      for (const HoleRecord& h : level.hole_table.holes)
+        out.holes.push_back({{h.centre.x(), h.centre.y(), h.centre.z()},
+                             {h.normal.x(), h.normal.y(), h.normal.z()},
+                             h.diameter,
+                             h.circularity,
+                             h.nearest,
+                             h.axis_ratio});
+      result.outputs.push_back(std::move(out));
+    }
+  });
   return result;
+}
+
+}  // namespace
+
+Prepared prepare(const Input& input, const Options& options) {
+  validate(options);
+  Prepared prepared;
+  prepared.input = &input;
+  in_arena(options,
+           [&] { prepared.state = std::make_shared<const PreparedInput>(prepare_input(input, options)); });
+  return prepared;
+}
+
+Result perforate(const Prepared& prepared, const RunControl& control) {
+  if (!prepared.input || !prepared.state)
+    throw Error(ErrorCode::invalid_option, "perforate: the Prepared was not made by prepare()");
+  return run_and_convert(*prepared.input, prepared.state->given, prepared.state.get(), control);
+}
+
+Result perforate(const Input& input, const Options& options, const RunControl& control) {
+  validate(options);
+  return run_and_convert(input, options, nullptr, control);
 }
 
 }  // namespace poreshell

@@ -35,6 +35,7 @@ void RunMonitor::throw_out_of_time() const {
 void RunMonitor::stage(std::string_view name) {
   check();
   std::lock_guard lock(mutex_);
+  if (name == stage_) return;  // already in it (a run that prepared its input in this stage)
   stage_ = name;
   fraction_ = 0.0;
   last_.store((std::chrono::steady_clock::now() - start_).count(), std::memory_order_relaxed);

@@ -140,7 +140,7 @@ std::vector<double> solid_zones(const Options& c, const PlacedSurface& placed, c
   return weight;
 }
 
-FeatureZones feature_zones(const Options& c, PlacedSurface& placed, double hole_diameter_mm) {
+FeatureZones feature_zones(const Options& c, const PlacedSurface& placed, double hole_diameter_mm) {
   FeatureZones zones;
   if (!(hole_diameter_mm > 0.0) || (c.thin_feature_ratio <= 0.0 && c.crease_angle <= 0.0)) return zones;
   const double hole = hole_diameter_mm / placed.mm_per_grid();
@@ -157,15 +157,15 @@ FeatureZones feature_zones(const Options& c, PlacedSurface& placed, double hole_
         std::vector<Vec3>(splats->points().begin(), splats->points().end()));
     std::vector<double> thin =
         thin_points(splats->points(), splats->normals(), splats->radii(), *tree, *splats, o);
-    placed.input.thin_vertices = static_cast<std::int64_t>(std::count(thin.begin(), thin.end(), 1.0));
-    if (placed.input.thin_vertices > 0)
+    zones.thin_vertices = static_cast<std::int64_t>(std::count(thin.begin(), thin.end(), 1.0));
+    if (zones.thin_vertices > 0)
       zones.thin = [tree, marks = std::move(thin)](const Vec3& x) { return marks[tree->nearest(x).first]; };
     return zones;
   }
   if (!placed.mesh) return zones;
   SurfaceFeatures f = find_surface_features(*placed.mesh, *placed.surface, o);
-  placed.input.thin_vertices = f.thin_vertices;
-  placed.input.crease_edges = f.crease_edges;
+  zones.thin_vertices = f.thin_vertices;
+  zones.crease_edges = f.crease_edges;
   if (f.thin_vertices > 0) {
     // Only the triangles with a marked vertex: the field is 0 on all others, and the solid zones ask at
     // points on the surface (the voxels' closest points, within rounding of it), so a point no marked

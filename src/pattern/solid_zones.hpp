@@ -54,13 +54,14 @@ struct FeatureZones {
   std::function<double(const Vec3&)> thin;
   std::vector<Segment> creases;
   double crease_width = 0.0;
+  std::int64_t thin_vertices = 0, crease_edges = 0;  // what was found, for the report
 };
 std::vector<double> solid_zones(const Options& options, const PlacedSurface& placed, const NarrowBand& band,
                                 double epsilon, const std::function<double(const Vec3&)>& mask,
                                 const FeatureZones& features = {});
 
 // The thin parts and creases of a mesh input for holes of `hole_diameter_mm` (the options' thresholds);
-// none for shapes and point clouds. Counts them in `placed.input`.
-FeatureZones feature_zones(const Options& options, PlacedSurface& placed, double hole_diameter_mm);
+// none for shapes and point clouds.
+FeatureZones feature_zones(const Options& options, const PlacedSurface& placed, double hole_diameter_mm);
 
 }  // namespace poreshell

@@ -125,32 +125,54 @@ void preview_output(double level, const Options& options, const PlacedSurface& p
 
 }  // namespace
 
-PipelineResult run_pipeline(const Input& input, const Options& given, RunMonitor& monitor) {
+PreparedInput prepare_input(const Input& input, const Options& given) {
   validate(given);
-  keep_large_blocks_mapped();
   const auto start = std::chrono::steady_clock::now();
-  PipelineResult result;
-  result.threads = tbb::this_task_arena::max_concurrency();
-  Options options = given;
-  result.requested_holes = {given.hole_diameter, given.spacing, given.porosity};
+  PreparedInput prepared;
+  prepared.given = given;
+  Options& options = prepared.options;
+  options = given;
   if (options.preview) options.coarse_start = false;
   if (holes_in_mm(options)) {
-    result.plan = plan_pattern(result.requested_holes);
-    options.voxel_size = choose_voxel_size(options.voxel_size, *result.plan);
+    prepared.plan = plan_pattern({given.hole_diameter, given.spacing, given.porosity});
+    options.voxel_size = choose_voxel_size(options.voxel_size, *prepared.plan);
     // A preview runs on the pattern's own grid, never finer (so no coarse start).
-    if (options.preview) options.voxel_size = std::max(options.voxel_size, result.plan->voxel_size);
-    options.iso = {result.plan->level};
-    options.phi_bar = result.plan->phi_bar;
+    if (options.preview) options.voxel_size = std::max(options.voxel_size, prepared.plan->voxel_size);
+    options.iso = {prepared.plan->level};
+    options.phi_bar = prepared.plan->phi_bar;
   }
+  prepared.placed = place_surface(input, options);
+  prepared.seconds = seconds_since(start);
+  return prepared;
+}
+
+PipelineResult run_pipeline(const Input& input, const Options& given, RunMonitor& monitor) {
+  return run_pipeline(input, prepare_input(input, given), monitor);
+}
+
+PipelineResult run_pipeline(const Input& input, const PreparedInput& prepared, RunMonitor& monitor) {
+  keep_large_blocks_mapped();
+  // The run's clock counts the input's preparation too.
+  const auto start =
+      std::chrono::steady_clock::now() - std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                             std::chrono::duration<double>(prepared.seconds));
+  PipelineResult result;
+  result.threads = tbb::this_task_arena::max_concurrency();
+  Options options = prepared.options;
+  const Options& given = prepared.given;
+  result.requested_holes = {given.hole_diameter, given.spacing, given.porosity};
+  result.plan = prepared.plan;
 
   monitor.stage("input");
   auto t = std::chrono::steady_clock::now();
-  PlacedSurface placed = place_surface(input, options);
+  const PlacedSurface& placed = prepared.placed;
   const FeatureZones features =
       result.plan ? feature_zones(options, placed, result.plan->diameter) : FeatureZones{};
   result.input = placed.input;
+  result.input.thin_vertices = features.thin_vertices;
+  result.input.crease_edges = features.crease_edges;
   result.solid.mode = options.mode == Mode::shell ? "shell" : "narrow-volume";
-  result.seconds_input = seconds_since(t);
+  result.seconds_input = prepared.seconds + seconds_since(t);
   const Grid grid = Grid::fitted(placed.domain, placed.resolution);
   result.grid_dims = grid.dims();
   result.h = grid.h();

@@ -96,7 +96,24 @@ TriangleMesh narrow_volume_mesh(const NarrowBand& band, std::span<const double> 
 // Its Euler characteristic, without making it.
 std::int64_t narrow_volume_euler(const NarrowBand& band, std::span<const double> phi, double iso);
 
+// The input placed on the grid it will get: what a run and its estimate both begin with (the public
+// API's opaque Prepared holds one).
+namespace detail {
+struct PreparedInput {
+  Options given;    // as the caller gave them
+  Options options;  // as the run uses them: the hole plan's grid, level and mean
+  std::optional<PatternPlan> plan;
+  PlacedSurface placed;
+  double seconds = 0.0;  // what placing took (a part of the run's input stage)
+};
+}  // namespace detail
+using detail::PreparedInput;
+// Validates the options and places the input. Throws as run_pipeline would.
+PreparedInput prepare_input(const Input& input, const Options& options);
+
 // Validates the options against the input, runs every stage and checks every mesh; writes nothing.
 PipelineResult run_pipeline(const Input& input, const Options& options, RunMonitor& monitor);
+// The same from a prepared input (made from this input).
+PipelineResult run_pipeline(const Input& input, const PreparedInput& prepared, RunMonitor& monitor);
 
 }  // namespace poreshell

@@ -112,3 +112,36 @@ TEST(Estimate, AReductionAddsItsTimeAndMemory) {
   EXPECT_TRUE(any_warning_has(reduced, "minutes"))
       << "the reduced run is estimated at " << reduced.seconds << " s";
 }
+
+// prepare(): placed once, it gives estimate() and perforate() what they would find from the input and
+// options themselves (a preview and a full run with a rim), so a front end that estimates first does
+// not place the input twice; one not made by prepare() is refused.
+TEST(Estimate, APreparedInputGivesTheSameEstimateAndTheSameRun) {
+  MeshInput sleeve;
+  sleeve.mesh = test_support::open_sleeve(30.0, 100.0, 24, 2);
+  for (const bool preview : {true, false}) {
+    Options o = holes(6.0, 10.0);
+    o.preview = preview;
+    o.rim = 3.0;
+    const Prepared prepared = prepare(sleeve, o);
+    const Estimate a = estimate(prepared), b = estimate(sleeve, o);
+    EXPECT_EQ(a.size_mm, b.size_mm);
+    EXPECT_EQ(a.grid, b.grid);
+    EXPECT_EQ(a.band_voxels, b.band_voxels);
+    EXPECT_EQ(a.seconds, b.seconds);
+    EXPECT_EQ(a.triangles, b.triangles);
+    EXPECT_EQ(a.warnings, b.warnings);
+    const Result x = perforate(prepared), y = perforate(sleeve, o);
+    ASSERT_EQ(x.outputs.size(), y.outputs.size());
+    for (std::size_t i = 0; i < x.outputs.size(); ++i) {
+      EXPECT_EQ(x.outputs[i].mesh.vertices, y.outputs[i].mesh.vertices) << "preview " << preview;
+      EXPECT_EQ(x.outputs[i].mesh.triangles, y.outputs[i].mesh.triangles) << "preview " << preview;
+      EXPECT_EQ(x.outputs[i].holes.size(), y.outputs[i].holes.size());
+    }
+    EXPECT_EQ(x.report.input.thin_vertices, y.report.input.thin_vertices);
+    EXPECT_EQ(x.report.input.crease_edges, y.report.input.crease_edges);
+    EXPECT_GT(x.report.seconds.input, 0.0);
+  }
+  EXPECT_THROW(perforate(Prepared{}), Error);
+  EXPECT_THROW(estimate(Prepared{}), Error);
+}
