@@ -46,6 +46,12 @@ constexpr double kStlHeaderBytes = 84.0;
 // 1.26 M estimated band voxels, 2 threads (docs/benchmarks.md "Estimates").
 constexpr double kPreviewTrianglesPerVoxel = 4.84, kPlyBytesPerTriangle = 20.5;
 constexpr double kPreviewSecondsFixed = 0.8, kPreviewSecondsPerVoxel = 8.4e-6;
+// A mesh's preview builds only the band's surface layer, {|psi| < h} of {|psi| < delta}: h / delta of the
+// band (the bunny at 8 / 14, 5 / 9 and 3 / 5 mm: 0.528-0.538 of its band, 0.538-0.553 of the band
+// estimated). Time and peak memory per layer voxel, fitted through the CLI's wall time and peak RSS of
+// those three (2 threads, 2026-11-26): 0.82-0.86, 1.84-1.96 and 5.94-6.14 s; 46, 72 and 179 MiB.
+constexpr double kLayerSecondsFixed = 0.11, kLayerSecondsPerVoxel = 8.9e-6;
+constexpr double kLayerPeakFixedBytes = 26.0 * 1024 * 1024, kLayerPeakBytesPerVoxel = 240.0;
 
 // Thresholds of the warnings: the size a print usually has, and a cost worth a second thought.
 constexpr double kSmallModelMm = 5.0, kLargeModelMm = 3000.0;
@@ -119,6 +125,11 @@ Estimate estimate_prepared(const Input& input, const PreparedInput& prepared) {
   if (options.preview) {
     e.preview = true;
     e.seconds = kPreviewSecondsFixed + kPreviewSecondsPerVoxel * band.voxels;
+    if (placed.mesh) {  // the band's surface layer (pipeline.cpp)
+      e.band_voxels = band.voxels / BandOptions{}.delta_in_h;
+      e.seconds = kLayerSecondsFixed + kLayerSecondsPerVoxel * e.band_voxels;
+      e.peak_bytes = kLayerPeakFixedBytes + kLayerPeakBytesPerVoxel * e.band_voxels;
+    }
     e.triangles = placed.mesh
                       ? static_cast<double>(preview_surface_mesh(*placed.mesh, grid.h()).triangles.size())
                       : kPreviewTrianglesPerVoxel * band.voxels;

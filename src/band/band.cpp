@@ -47,10 +47,14 @@ struct ScannedVoxel {
   double psi;
 };
 
-// The voxels that satisfy the band rule, by key. Only points with |psi| < gradient_bound delta can
-// (|grad_h psi| <= sqrt(3) for a 1-Lipschitz psi), and their neighbours are within the near field's reach.
+// The voxels with |psi| < within that satisfy the band rule, by key. Only points with |psi| <
+// gradient_bound delta can (|grad_h psi| <= sqrt(3) for a 1-Lipschitz psi); the neighbours of those
+// within are within the near field's reach. Points within h of the surface are band voxels whatever
+// their discrete gradient, which vanishes across a thin part's middle (the bunny's ears: 112 of them,
+// which the closure added back before): they carry the surface's area, and a surface layer of them
+// then holds exactly the band's (BandOptions::surface_layer).
 std::vector<ScannedVoxel> band_voxels(const NearField& near, const Surface& surface, const Grid& grid,
-                                      double delta, double gradient_bound, const StageProgress& progress) {
+                                      double delta, double within, const StageProgress& progress) {
   const double inv_2h = 0.5 / grid.h();
   const auto psi_at = [&](const Coord& c) {
     const double psi = near.psi(c);
@@ -59,7 +63,11 @@ std::vector<ScannedVoxel> band_voxels(const NearField& near, const Surface& surf
   std::vector<std::vector<ScannedVoxel>> per_row(near.row_count());
   monitored_for(near.row_count(), progress, [&](std::size_t r) {
     near.for_each_near_point(r, [&](const Coord& c, double psi) {
-      if (std::abs(psi) >= delta * gradient_bound) return;
+      if (std::abs(psi) >= within) return;
+      if (std::abs(psi) < grid.h()) {
+        per_row[r].push_back({grid.key(c), psi});
+        return;
+      }
       const Vec3 gradient((psi_at({c.i + 1, c.j, c.k}) - psi_at({c.i - 1, c.j, c.k})) * inv_2h,
                           (psi_at({c.i, c.j + 1, c.k}) - psi_at({c.i, c.j - 1, c.k})) * inv_2h,
                           (psi_at({c.i, c.j, c.k + 1}) - psi_at({c.i, c.j, c.k - 1})) * inv_2h);
@@ -276,14 +284,17 @@ NarrowBand build_band(const Surface& surface, const Grid& grid, const BandOption
   const double delta = options.delta_in_h * grid.h();
   // Reach: band candidates (|psi| < gradient_bound delta) and one cell beyond, which holds their
   // neighbours, the ghosts and the ghosts' stencil corners (within sqrt(3) h of the surface); 1% for
-  // rounding. Shares of the build's time (the bunny at 400 points): the near field, the band rule, the
-  // closure rounds (one, rarely more), the voxels' distances and closest points.
+  // rounding. A surface layer needs only the points within h. Shares of the build's time (the bunny at 400
+  // points): the near field, the band rule, the closure rounds (one, rarely more), the voxels' distances and
+  // closest points.
   const StageProgress& progress = options.progress;
   const double bound = std::clamp(options.gradient_bound, 1.0, std::sqrt(3.0));
-  const NearField near(surface, grid, delta * bound + 1.01 * grid.h(), progress.part(0.0, 0.5));
+  const double within = options.surface_layer ? grid.h() : delta * bound;
+  const NearField near(surface, grid, options.surface_layer ? 1.01 * within : within + 1.01 * grid.h(),
+                       progress.part(0.0, 0.5));
   band.stats_.candidate_blocks = near.blocks_scanned();
   const std::vector<ScannedVoxel> scanned =
-      band_voxels(near, surface, grid, delta, bound, progress.part(0.5, 0.6));
+      band_voxels(near, surface, grid, delta, within, progress.part(0.5, 0.6));
   std::vector<std::int64_t> keys(scanned.size());
   for (std::size_t v = 0; v < scanned.size(); ++v) keys[v] = scanned[v].key;
   if (keys.empty())
@@ -292,96 +303,102 @@ NarrowBand build_band(const Surface& surface, const Grid& grid, const BandOption
   if (keys.size() >= static_cast<std::size_t>(INT32_MAX / 2))
     throw InputError("the narrow band has too many voxels for 32-bit indices: use a coarser resolution");
 
-  // Closure: every corner of every ghost's interpolation cell must be a band voxel. Corners are within
-  // sqrt(3) h of the surface, so for a true distance function the rule already holds; add the rare
-  // exceptions (curved level sets with |grad_h psi| < 1) and rebuild the ghosts.
-  for (int round = 0;; ++round) {
-    const StageProgress round_progress = progress.part(0.6 + 0.02 * round, 0.8 + 0.02 * round);
-    round_progress.check();
+  const auto take_voxels = [&] {
     band.keys_ = keys;
     band.voxels_.resize(keys.size());
     for (std::size_t v = 0; v < keys.size(); ++v) band.voxels_[v] = grid.coord(keys[v]);
-
     const auto& d = grid.dims();
     if (std::any_of(band.voxels_.begin(), band.voxels_.end(), [&](const Coord& c) {
           return c.i <= 0 || c.j <= 0 || c.k <= 0 || c.i >= d[0] - 1 || c.j >= d[1] - 1 || c.k >= d[2] - 1;
         }))
       throw InputError("the narrow band touches the edge of the grid: enlarge the domain or add padding");
     band_neighbours(band.keys_, grid, band.neighbors_);
-    round_progress.advance(0.2);
-    std::vector<std::int64_t> ghost_keys = ghost_keys_of(band.keys_, grid, band.neighbors_);
-    round_progress.advance(0.3);
-    const auto even = std::stable_partition(ghost_keys.begin(), ghost_keys.end(),
-                                            [&](std::int64_t key) { return parity(grid.coord(key)) == 0; });
-    band.odd_ghosts_begin_ = static_cast<std::size_t>(even - ghost_keys.begin());
-    band.ghosts_.resize(ghost_keys.size());
-    for (std::size_t g = 0; g < ghost_keys.size(); ++g) band.ghosts_[g] = grid.coord(ghost_keys[g]);
+  };
+  if (options.surface_layer) {
+    take_voxels();
+  } else {
+    // Closure: every corner of every ghost's interpolation cell must be a band voxel. Corners are within
+    // sqrt(3) h of the surface, so for a true distance function the rule already holds; add the rare
+    // exceptions (curved level sets with |grad_h psi| < 1) and rebuild the ghosts.
+    for (int round = 0;; ++round) {
+      const StageProgress round_progress = progress.part(0.6 + 0.02 * round, 0.8 + 0.02 * round);
+      round_progress.check();
+      take_voxels();
+      round_progress.advance(0.2);
+      std::vector<std::int64_t> ghost_keys = ghost_keys_of(band.keys_, grid, band.neighbors_);
+      round_progress.advance(0.3);
+      const auto even = std::stable_partition(ghost_keys.begin(), ghost_keys.end(),
+                                              [&](std::int64_t key) { return parity(grid.coord(key)) == 0; });
+      band.odd_ghosts_begin_ = static_cast<std::size_t>(even - ghost_keys.begin());
+      band.ghosts_.resize(ghost_keys.size());
+      for (std::size_t g = 0; g < ghost_keys.size(); ++g) band.ghosts_[g] = grid.coord(ghost_keys[g]);
 
-    band.stencils_.assign(ghost_keys.size(), {});
-    std::vector<std::vector<std::int64_t>> missing(ghost_keys.size());
-    std::vector<double> offsets(ghost_keys.size(), 0.0);
-    monitored_for(ghost_keys.size(), round_progress.part(0.3, 1.0), [&](std::size_t g) {
-      const Coord c = band.ghosts_[g];
-      const Vec3 cp = closest_point_of(near, surface, grid, c, options.closest_point);
-      offsets[g] = (cp - grid.position(c)).norm() / grid.h();
-      const auto [base, t] = lattice_cell(grid.to_index_space(cp));
-      GhostStencil& s = band.stencils_[g];
-      s.t = {static_cast<float>(t.x()), static_cast<float>(t.y()), static_cast<float>(t.z())};
-      for (int r = 0; r < 4; ++r) {  // the cell's 4 rows along x: one search finds both corners
-        const Coord row_start{base.i, base.j + (r & 1), base.k + (r >> 1)};
-        const std::array<std::int64_t, 2> idx = band.find_x_pair(row_start);
-        s.row[static_cast<std::size_t>(r)] = static_cast<std::int32_t>(std::max<std::int64_t>(idx[0], 0));
-        for (int x = 0; x < 2; ++x) {
-          if (idx[static_cast<std::size_t>(x)] >= 0) continue;
-          const Coord cc{row_start.i + x, row_start.j, row_start.k};
-          if (!grid.contains(cc)) throw InputError("a closest point lies outside the grid: add padding");
-          missing[g].push_back(grid.key(cc));
+      band.stencils_.assign(ghost_keys.size(), {});
+      std::vector<std::vector<std::int64_t>> missing(ghost_keys.size());
+      std::vector<double> offsets(ghost_keys.size(), 0.0);
+      monitored_for(ghost_keys.size(), round_progress.part(0.3, 1.0), [&](std::size_t g) {
+        const Coord c = band.ghosts_[g];
+        const Vec3 cp = closest_point_of(near, surface, grid, c, options.closest_point);
+        offsets[g] = (cp - grid.position(c)).norm() / grid.h();
+        const auto [base, t] = lattice_cell(grid.to_index_space(cp));
+        GhostStencil& s = band.stencils_[g];
+        s.t = {static_cast<float>(t.x()), static_cast<float>(t.y()), static_cast<float>(t.z())};
+        for (int r = 0; r < 4; ++r) {  // the cell's 4 rows along x: one search finds both corners
+          const Coord row_start{base.i, base.j + (r & 1), base.k + (r >> 1)};
+          const std::array<std::int64_t, 2> idx = band.find_x_pair(row_start);
+          s.row[static_cast<std::size_t>(r)] = static_cast<std::int32_t>(std::max<std::int64_t>(idx[0], 0));
+          for (int x = 0; x < 2; ++x) {
+            if (idx[static_cast<std::size_t>(x)] >= 0) continue;
+            const Coord cc{row_start.i + x, row_start.j, row_start.k};
+            if (!grid.contains(cc)) throw InputError("a closest point lies outside the grid: add padding");
+            missing[g].push_back(grid.key(cc));
+          }
         }
+      });
+      std::vector<std::int64_t> added;
+      for (const auto& m : missing) added.insert(added.end(), m.begin(), m.end());
+      if (added.empty()) {
+        band.stats_.max_closest_point_offset = *std::max_element(offsets.begin(), offsets.end());
+        break;
+      }
+      if (round == 8) throw std::runtime_error("narrow band closure did not settle after 8 rounds");
+      std::sort(added.begin(), added.end());
+      added.erase(std::unique(added.begin(), added.end()), added.end());
+      band.stats_.closure_added += static_cast<std::int64_t>(added.size());
+      keys.insert(keys.end(), added.begin(), added.end());
+      std::sort(keys.begin(), keys.end());
+    }
+
+    // The neighbour table holds band indices from the last round; ghosts by their parity's key order.
+    progress.advance(0.8);
+    const auto n = static_cast<std::int64_t>(band.voxels_.size());
+    tbb::parallel_for(std::size_t{0}, band.voxels_.size(), [&](std::size_t v) {
+      for (int o = 0; o < NarrowBand::kNeighbors; ++o) {
+        std::int32_t& idx = band.neighbors_[v * NarrowBand::kNeighbors + static_cast<std::size_t>(o)];
+        if (idx >= 0) continue;
+        const Coord nb = shifted(band.voxels_[v], kFaceOffsets[static_cast<std::size_t>(o)]);
+        const auto [begin, end] = band.ghosts_of_parity(parity(nb));
+        const auto first = band.ghosts_.begin() + static_cast<std::ptrdiff_t>(begin);
+        const auto it =
+            std::lower_bound(first, band.ghosts_.begin() + static_cast<std::ptrdiff_t>(end), grid.key(nb),
+                             [&](const Coord& a, std::int64_t b) { return grid.key(a) < b; });
+        idx = static_cast<std::int32_t>(n + (it - band.ghosts_.begin()));
       }
     });
-    std::vector<std::int64_t> added;
-    for (const auto& m : missing) added.insert(added.end(), m.begin(), m.end());
-    if (added.empty()) {
-      band.stats_.max_closest_point_offset = *std::max_element(offsets.begin(), offsets.end());
-      break;
-    }
-    if (round == 8) throw std::runtime_error("narrow band closure did not settle after 8 rounds");
-    std::sort(added.begin(), added.end());
-    added.erase(std::unique(added.begin(), added.end()), added.end());
-    band.stats_.closure_added += static_cast<std::int64_t>(added.size());
-    keys.insert(keys.end(), added.begin(), added.end());
-    std::sort(keys.begin(), keys.end());
+
+    // The paper's ghost set is { I |grad_h I| != 0 }: ghosts with an unbalanced band neighbour pair. A
+    // ghost's band neighbours are the voxels whose neighbour entries point at it (direction o from the
+    // voxel is o ^ 1 from the ghost): one pass over the table, not 6 searches per ghost.
+    std::vector<std::uint8_t> band_sides(band.ghosts_.size(), 0);  // bit o: the neighbour in direction o
+    for (std::size_t e = 0; e < band.neighbors_.size(); ++e)
+      if (band.neighbors_[e] >= n)
+        band_sides[static_cast<std::size_t>(band.neighbors_[e] - n)] |=
+            static_cast<std::uint8_t>(1u << ((e % NarrowBand::kNeighbors) ^ 1));
+    progress.advance(0.85);
+    band.stats_.paper_ghosts = std::count_if(band_sides.begin(), band_sides.end(), [](std::uint8_t sides) {
+      return ((sides ^ (sides >> 1)) & 0b010101) != 0;  // -a and +a differ for some axis a
+    });
   }
-
-  // The neighbour table holds band indices from the last round; ghosts by their parity's key order.
-  progress.advance(0.8);
-  const auto n = static_cast<std::int64_t>(band.voxels_.size());
-  tbb::parallel_for(std::size_t{0}, band.voxels_.size(), [&](std::size_t v) {
-    for (int o = 0; o < NarrowBand::kNeighbors; ++o) {
-      std::int32_t& idx = band.neighbors_[v * NarrowBand::kNeighbors + static_cast<std::size_t>(o)];
-      if (idx >= 0) continue;
-      const Coord nb = shifted(band.voxels_[v], kFaceOffsets[static_cast<std::size_t>(o)]);
-      const auto [begin, end] = band.ghosts_of_parity(parity(nb));
-      const auto first = band.ghosts_.begin() + static_cast<std::ptrdiff_t>(begin);
-      const auto it =
-          std::lower_bound(first, band.ghosts_.begin() + static_cast<std::ptrdiff_t>(end), grid.key(nb),
-                           [&](const Coord& a, std::int64_t b) { return grid.key(a) < b; });
-      idx = static_cast<std::int32_t>(n + (it - band.ghosts_.begin()));
-    }
-  });
-
-  // The paper's ghost set is { I |grad_h I| != 0 }: ghosts with an unbalanced band neighbour pair. A
-  // ghost's band neighbours are the voxels whose neighbour entries point at it (direction o from the
-  // voxel is o ^ 1 from the ghost): one pass over the table, not 6 searches per ghost.
-  std::vector<std::uint8_t> band_sides(band.ghosts_.size(), 0);  // bit o: the neighbour in direction o
-  for (std::size_t e = 0; e < band.neighbors_.size(); ++e)
-    if (band.neighbors_[e] >= n)
-      band_sides[static_cast<std::size_t>(band.neighbors_[e] - n)] |=
-          static_cast<std::uint8_t>(1u << ((e % NarrowBand::kNeighbors) ^ 1));
-  progress.advance(0.85);
-  band.stats_.paper_ghosts = std::count_if(band_sides.begin(), band_sides.end(), [](std::uint8_t sides) {
-    return ((sides ^ (sides >> 1)) & 0b010101) != 0;  // -a and +a differ for some axis a
-  });
 
   band.distance_.resize(band.voxels_.size());
   band.closest_point_offsets_.resize(band.voxels_.size());

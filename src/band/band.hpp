@@ -1,6 +1,7 @@
 #pragma once
 // The discrete narrow band of section 2, stored as compact arrays:
-//   band voxels  Omega_delta^h = { |psi| < delta |grad_h psi| },  delta = 1.1 sqrt(3) h,
+//   band voxels  Omega_delta^h = { |psi| < delta |grad_h psi| },  delta = 1.1 sqrt(3) h, and every grid
+//                point with |psi| < h (the discrete gradient vanishes across a thin part's middle),
 //   ghost points: the grid points outside the band that the band's 7-point Laplacian touches,
 //   for each ghost the trilinear stencil (8 band voxels and weights) at its closest point cp(x).
 // Ghosts are stored by the parity of i + j + k (even first), then by key, so a red-black sweep
@@ -37,6 +38,11 @@ struct BandOptions {
   // surface with exact closest points takes kLikelyGradientBound: its scan then reaches 3.1 h instead of
   // 4.3 h (a quarter fewer distance queries).
   double gradient_bound = 1.7320508075688772;
+  // Only the band voxels that carry surface area (|psi| < h, all of them band voxels) and no ghosts: a
+  // layer to lay holes out on, measure them and paint a mesh from, not to solve on (neighbours off the
+  // layer are -1). Its voxels, distances and closest points are the band's, so a layout on it is the
+  // band's; its scan reaches 1.01 h instead of 3.1-4.3 h. A preview's, where it shows the input mesh.
+  bool surface_layer = false;
 };
 
 // Over the band voxels of the bunny, Spot, the bunny's points, the sphere and the torus (meshed or at the
@@ -102,7 +108,8 @@ class NarrowBand {
     const auto& o = closest_point_offsets_[v];
     return grid_.position(voxels_[v]) + grid_.h() * Vec3(o[0], o[1], o[2]);
   }
-  // Neighbour n of band voxel v: an index into the extended array (< size(): band; else ghost).
+  // Neighbour n of band voxel v: an index into the extended array (< size(): band; else ghost; -1 off
+  // a surface layer).
   std::int32_t neighbor(std::size_t v, int n) const { return neighbors_[v * kNeighbors + n]; }
   std::span<const std::int32_t> neighbor_table() const { return neighbors_; }
   std::span<const GhostStencil> stencils() const { return stencils_; }
