@@ -272,6 +272,8 @@ const std::map<std::string, Setter>& setters() {
       {"wall", set_double(&O::wall)},
       {"offset", set_enum(&O::offset)},
       {"rim", set_double(&O::rim)},
+      {"thin_feature_ratio", set_double(&O::thin_feature_ratio)},
+      {"crease_angle", set_double(&O::crease_angle)},
       {"keep_out",
        [](O& o, const std::string& n, py::handle v) {
          o.keep_out.clear();
@@ -286,6 +288,10 @@ const std::map<std::string, Setter>& setters() {
       {"keep_out_mask", [](O& o, const std::string& n, py::handle v) { o.keep_out_mask = to_string(n, v); }},
       {"max_triangles", set_int(&O::max_triangles)},
       {"max_deviation", set_double(&O::max_deviation)},
+      {"keep_fragments", [](O& o, const std::string& n, py::handle v) { o.keep_fragments = to_bool(n, v); }},
+      {"min_part_fraction", set_double(&O::min_part_fraction)},
+      {"scale", set_double(&O::scale)},
+      {"preview", [](O& o, const std::string& n, py::handle v) { o.preview = to_bool(n, v); }},
       {"alpha", set_double(&O::alpha)},
       {"epsilon_m", set_double(&O::epsilon_m)},
       {"dt_h", set_double(&O::dt_h)},
@@ -321,13 +327,13 @@ const std::map<std::string, Setter>& setters() {
   return table;
 }
 
-poreshell::Options to_options(const py::dict& kwargs) {
+poreshell::Options to_options(const py::dict& kwargs, const std::string& caller = "perforate") {
   poreshell::Options options;
   for (const auto& [key_handle, value] : kwargs) {
     const std::string key = py::str(key_handle);
     const auto it = setters().find(key);
     if (it == setters().end())
-      throw py::type_error("perforate() got an unexpected keyword argument '" + key + "'");
+      throw py::type_error(caller + "() got an unexpected keyword argument '" + key + "'");
     if (!value.is_none()) it->second(options, key, value);
   }
   // As the CLI: with holes asked in mm, the hole map chooses the model, which may then not be given
@@ -452,10 +458,35 @@ py::tuple run(const InputBox& input, const py::dict& kwargs, const py::object& p
     level["vertices"] = points_array(out.mesh.vertices);
     level["faces"] = triangles_array(out.mesh.triangles);
     level["holes"] = holes_dict(out.holes);
+    if (!out.pattern.empty())
+      level["pattern"] = py::array_t<double>(py::ssize_t(out.pattern.size()), out.pattern.data());
     out.mesh = {};  // one copy at a time
     outputs.append(level);
   }
   return py::make_tuple(outputs, report);
+}
+
+// poreshell::estimate() as a dict, the GIL released while the input is placed (a large scan's tree).
+py::dict estimate(const InputBox& input, const py::dict& kwargs) {
+  const poreshell::Options options = to_options(kwargs, "estimate");
+  poreshell::Estimate e;
+  {
+    py::gil_scoped_release release;
+    e = poreshell::estimate(input.input, options);
+  }
+  py::dict out;
+  out["size_mm"] = py::make_tuple(e.size_mm[0], e.size_mm[1], e.size_mm[2]);
+  out["grid"] = py::make_tuple(e.grid[0], e.grid[1], e.grid[2]);
+  out["voxel_size_mm"] = e.voxel_size_mm;
+  out["band_voxels"] = e.band_voxels;
+  out["seconds"] = e.seconds;
+  out["peak_bytes"] = e.peak_bytes;
+  out["triangles"] = e.triangles;
+  out["stl_bytes"] = e.stl_bytes;
+  out["preview"] = e.preview;
+  out["ply_bytes"] = e.ply_bytes;
+  out["warnings"] = e.warnings;
+  return out;
 }
 
 }  // namespace
@@ -541,14 +572,18 @@ PYBIND11_MODULE(_poreshell, m) {
       py::arg("path"));
   m.def(
       "save_mesh",
-      [](const std::filesystem::path& path, const Doubles& vertices, const Ints& faces) {
-        poreshell::Mesh mesh;
-        mesh.vertices = to_points(vertices);
-        mesh.triangles = to_triangles(faces);
+      [](const std::filesystem::path& path, const Doubles& vertices, const Ints& faces, double iso,
+         const std::optional<Doubles>& pattern) {
+        poreshell::Output out;
+        out.iso = iso;
+        out.mesh.vertices = to_points(vertices);
+        out.mesh.triangles = to_triangles(faces);
+        if (pattern) out.pattern.assign(pattern->data(), pattern->data() + pattern->size());
         py::gil_scoped_release release;
-        poreshell::save_mesh(path, mesh);
+        poreshell::save_mesh(path, out);
       },
-      py::arg("path"), py::arg("vertices"), py::arg("faces"));
+      py::arg("path"), py::arg("vertices"), py::arg("faces"), py::arg("iso") = 0.0,
+      py::arg("pattern") = std::nullopt);
   m.def("check_mesh_path", [](const std::filesystem::path& path) { poreshell::check_mesh_path(path); });
   m.def("check_output_path", [](const std::filesystem::path& path) { poreshell::check_output_path(path); });
   m.def("option_names", [] {
@@ -556,6 +591,7 @@ PYBIND11_MODULE(_poreshell, m) {
     for (const auto& [name, unused] : setters()) names.push_back(name);
     return names;
   });
+  m.def("estimate", &estimate, py::arg("input"), py::arg("options"));
   m.def("perforate", &run, py::arg("input"), py::arg("options"), py::arg("progress"), py::arg("max_seconds"));
   m.def("version", [] { return std::string(poreshell::version()); });
 }

@@ -7,7 +7,7 @@ unless a ``units`` argument says otherwise; results are always in millimetres.
     >>> r = poreshell.perforate(*poreshell.load_mesh("data/stanford-bunny.obj", units="m"), alpha=2200)
     >>> r.save("bunny.stl"); r.report["mesh"]["pores_from_euler"]
 
-Functions: perforate, load_mesh, load_points, sphere, torus, points, version.
+Functions: perforate, estimate, load_mesh, load_points, sphere, torus, points, version.
 Errors: ValueError for bad arguments (wrong shape, dtype, NaN, out-of-range option; the message names
 the option in backquotes, as in `hole_diameter`), RuntimeError for other failures. Both carry
 ``code`` (invalid_option, invalid_input, too_large, cancelled, io, internal) and ``option`` attributes
@@ -23,6 +23,7 @@ from . import _poreshell
 
 __all__ = [
     "perforate",
+    "estimate",
     "load_mesh",
     "load_points",
     "sphere",
@@ -214,7 +215,8 @@ class Output:
     iso: the pore level; vertices: (n, 3) float64 in mm (the input's frame); faces: (m, 3) int32,
     counter-clockwise seen from outside (closed, manifold, oriented); holes: structured array of
     HOLE_DTYPE (fields centre (n, 3) mm, normal (n, 3), diameter mm, circularity, nearest mm,
-    axis_ratio).
+    axis_ratio). A preview (preview=True) is the input surface itself, not a closed shell, and
+    pattern is its order parameter per vertex, (n,) float64: a hole where pattern > iso (else None).
     """
 
     def __init__(self, level):
@@ -222,13 +224,15 @@ class Output:
         self.vertices = level["vertices"]
         self.faces = level["faces"]
         self.holes = _holes_array(level["holes"])
+        self.pattern = level.get("pattern")
 
     def save(self, path):
-        """Writes this mesh in mm: .stl (binary), .3mf, .obj or .ply (binary) by extension.
+        """Writes this mesh in mm: .stl (binary), .3mf, .obj or .ply (binary) by extension; a
+        preview's .ply has its holes as vertex colours, as the CLI writes it.
 
         The file is written to a temporary name and renamed, so a failure leaves no partial file.
         """
-        _poreshell.save_mesh(os.fspath(path), self.vertices, self.faces)
+        _poreshell.save_mesh(os.fspath(path), self.vertices, self.faces, self.iso, self.pattern)
 
     def __repr__(self):
         return "poreshell.Output(iso=%g, %d vertices, %d faces, %d holes)" % (
@@ -406,6 +410,30 @@ def perforate(
             _make_input(vertices, faces, units, vertex_fields), options, progress, float(max_seconds)
         )
     )
+
+
+def estimate(vertices, faces=None, *, units=None, vertex_fields=None, **options):
+    """What perforate() with the same input and options will cost, before running it.
+
+    Takes perforate()'s input and options (not `progress` or `max_seconds`) and returns a dict:
+      size_mm        the model's bounding box in mm, (x, y, z)
+      grid           the grid's points along x, y, z; voxel_size_mm its spacing in mm
+      band_voxels    the narrow band's voxels (a preview of a mesh: its surface layer)
+      seconds        the run's wall time on 2 cores of the calibration machine (docs/benchmarks.md
+                     "Estimates": expect +-30%, more under load)
+      peak_bytes     the run's peak resident memory
+      triangles      per output level; stl_bytes its size as binary STL
+      preview        whether the options ask for a preview; ply_bytes its output as PLY (else 0)
+      warnings       list of str: a model under 5 mm or over 3 m across (with the `units` that would
+                     make it 20-500 mm), holes over a third of its smallest extent, a run over 5
+                     minutes or an output over 300 MB
+
+    It places the input as the run would (a tenth of a second for a 70k-triangle scan) and counts the
+    band on a coarser grid. Raises as perforate() does for bad input and options.
+
+    Example: r = poreshell.estimate("scan.stl", hole_diameter=8, spacing=12); print(r["seconds"])
+    """
+    return _poreshell.estimate(_make_input(vertices, faces, units, vertex_fields), options)
 
 
 def _make_input(first, faces, units, vertex_fields):

@@ -119,6 +119,39 @@ def test_bad_options():
         poreshell.perforate(poreshell.sphere(20), alpah=2200)
 
 
+def test_estimate_before_the_run():
+    options = dict(hole_diameter=6, spacing=10, preview=True)
+    e = poreshell.estimate(poreshell.sphere(25), **options)
+    r = poreshell.perforate(poreshell.sphere(25), **options)
+    voxels = r.report["band"]["voxels"]
+    assert e["preview"] and abs(e["band_voxels"] - voxels) < 0.15 * voxels
+    assert abs(e["triangles"] - len(r.faces)) < 0.10 * len(r.faces)
+    assert all(abs(s - 50) < 1 for s in e["size_mm"]) and e["warnings"] == []
+    full = poreshell.estimate(poreshell.sphere(25), hole_diameter=6, spacing=10)
+    assert not full["preview"] and full["seconds"] > 2 * e["seconds"] and full["ply_bytes"] == 0
+    # A scan in metres given as millimetres: the warning names the unit that makes it a usual size.
+    v = np.array([[0, 0, 0], [0.15, 0, 0], [0, 0.15, 0], [0, 0, 0.15]])
+    f = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+    assert any("`units` m" in w for w in poreshell.estimate(v, f)["warnings"])
+    with pytest.raises(ValueError, match="`hole_diameter`"):
+        poreshell.estimate(poreshell.sphere(20), hole_diameter=-1)
+    with pytest.raises(TypeError, match="estimate.*progress"):
+        poreshell.estimate(poreshell.sphere(20), progress=print)
+
+
+def test_preview_paints_the_input_mesh(tmp_path):
+    r = poreshell.perforate(DATA / "stanford-bunny.obj", units="m", hole_diameter=8, spacing=14, preview=True)
+    out = r.outputs[0]
+    assert out.pattern.shape == (len(out.vertices),) and np.isfinite(out.pattern).all()
+    open_share = np.mean(out.pattern > out.iso)
+    assert 0.05 < open_share < 0.4, open_share  # the holes are a part of the surface, not none or all
+    assert abs(len(out.holes) - r.report["solver"]["layout_holes"]) <= 0.03 * len(out.holes)
+    out.save(tmp_path / "p.ply")
+    header = (tmp_path / "p.ply").read_bytes()[:400]
+    assert b"property uchar red" in header
+    assert poreshell.perforate(poreshell.sphere(20), hole_diameter=6, spacing=10).outputs[0].pattern is None
+
+
 def test_progress_is_called():
     calls = []
     poreshell.perforate(poreshell.sphere(20), progress=lambda stage, f: calls.append((stage, f)), **SMALL)
