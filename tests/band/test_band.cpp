@@ -167,12 +167,23 @@ TEST(Band, LikelyGradientBoundFindsTheSameBandWithFewerQueries) {
   EXPECT_LT(build_band(steep, fine, likely).size(), build_band(steep, fine).size());
 }
 
+namespace {
+
+// A closed box thinner than h, its middle on grid points: there the central differences of the distance
+// cancel (|grad_h psi| = 0), so the paper's rule alone would leave points on the surface out of the band.
+TriangleMesh thin_plate_in_unit_box(double thickness) {
+  TriangleMesh mesh;
+  for (int c = 0; c < 8; ++c)
+    mesh.vertices.emplace_back(c & 1 ? 0.8 : 0.2, c & 2 ? 0.8 : 0.2, 0.5 + (c & 4 ? 0.5 : -0.5) * thickness);
+  mesh.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                    {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  return mesh;
+}
+
 // A preview's surface layer is the band's voxels that carry surface area, with their distances and closest
 // points, neighbours within the layer and no ghosts; its scan asks the surface far fewer times.
-TEST(Band, SurfaceLayerIsTheBandWhereItCarriesArea) {
-  const TriangleMesh mesh = sleeve_in_unit_box();
+void expect_layer_is_band_where_it_carries_area(const TriangleMesh& mesh, const Grid& g) {
   const MeshSurface surface(mesh);
-  const Grid g(Vec3::Zero(), 1.0 / 70, {71, 71, 71});
   const NarrowBand band = build_band(surface, g);
   BandOptions only_area;
   only_area.surface_layer = true;
@@ -197,6 +208,26 @@ TEST(Band, SurfaceLayerIsTheBandWhereItCarriesArea) {
       const Coord c = shifted(layer.voxels()[v], kFaceOffsets[static_cast<std::size_t>(n)]);
       EXPECT_EQ(layer.neighbor(v, n), layer.find(c));
     }
+  // Every grid point within h of the surface is a band voxel (the brute-force check).
+  std::size_t within_h = 0;
+  for (int k = 0; k < g.dims()[2]; ++k)
+    for (int j = 0; j < g.dims()[1]; ++j)
+      for (int i = 0; i < g.dims()[0]; ++i)
+        if (surface.distance(g.position({i, j, k})) < g.h()) {
+          ++within_h;
+          EXPECT_GE(band.find({i, j, k}), 0) << i << " " << j << " " << k;
+        }
+  EXPECT_EQ(layer.size(), within_h);
+}
+
+}  // namespace
+
+TEST(Band, SurfaceLayerIsTheBandWhereItCarriesArea) {
+  const Grid g(Vec3::Zero(), 1.0 / 70, {71, 71, 71});
+  expect_layer_is_band_where_it_carries_area(sleeve_in_unit_box(), g);
+  expect_layer_is_band_where_it_carries_area(thin_plate_in_unit_box(0.8 * g.h()), g);
+  BandOptions only_area;
+  only_area.surface_layer = true;
 
   // Against the band a preview built before, with the likely gradient bound: its points within reach
   // are a third, its queries in all (the blocks' included) about half.
