@@ -124,11 +124,12 @@ Estimate estimate_prepared(const Input& input, const PreparedInput& prepared) {
   e.stl_bytes = kStlHeaderBytes + kStlBytesPerTriangle * e.triangles;
   if (options.preview) {
     e.preview = true;
-    e.seconds = kPreviewSecondsFixed + kPreviewSecondsPerVoxel * band.voxels;
-    if (placed.mesh) {  // the band's surface layer (pipeline.cpp)
+    if (builds_surface_layer(options, placed)) {
       e.band_voxels = band.voxels / BandOptions{}.delta_in_h;
       e.seconds = kLayerSecondsFixed + kLayerSecondsPerVoxel * e.band_voxels;
       e.peak_bytes = kLayerPeakFixedBytes + kLayerPeakBytesPerVoxel * e.band_voxels;
+    } else {
+      e.seconds = kPreviewSecondsFixed + kPreviewSecondsPerVoxel * band.voxels;
     }
     e.triangles = placed.mesh
                       ? static_cast<double>(preview_surface_mesh(*placed.mesh, grid.h()).triangles.size())

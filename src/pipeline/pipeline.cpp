@@ -199,9 +199,7 @@ PipelineResult run_pipeline(const Input& input, const PreparedInput& prepared, R
   // Measured on distances to meshes, shapes and splats; a sampled level set's gradient is its samples'.
   if (options.preview && placed.surface->closest_point_is_exact())
     band_options.gradient_bound = kLikelyGradientBound;
-  // A preview that shows the input mesh needs the band only where it carries surface area; the slab a
-  // preview of other inputs shows is meshed from the whole band.
-  band_options.surface_layer = options.preview && placed.mesh;
+  band_options.surface_layer = builds_surface_layer(options, placed);
   std::optional<NarrowBand> band_storage(build_band(*placed.surface, grid, band_options));
   const NarrowBand& band = *band_storage;
   release_free_memory();

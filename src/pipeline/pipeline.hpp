@@ -111,6 +111,12 @@ using detail::PreparedInput;
 // Validates the options and places the input. Throws as run_pipeline would.
 PreparedInput prepare_input(const Input& input, const Options& options);
 
+// Whether the run builds only the band's surface layer (BandOptions::surface_layer): a preview that
+// shows the input mesh itself. A preview of other inputs meshes its slab from the whole band.
+inline bool builds_surface_layer(const Options& options, const PlacedSurface& placed) {
+  return options.preview && placed.mesh.has_value();
+}
+
 // Validates the options against the input, runs every stage and checks every mesh; writes nothing.
 PipelineResult run_pipeline(const Input& input, const Options& options, RunMonitor& monitor);
 // The same from a prepared input (made from this input).
