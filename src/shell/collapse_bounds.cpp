@@ -1,0 +1,136 @@
+#include "shell/collapse_bounds.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <Eigen/Geometry>  // cross()
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <stdexcept>
+
+namespace poreshell {
+namespace {
+
+constexpr int kMaxWalk = 16;  // steps across the original surface before searching all of it
+
+// Corners around each vertex: corners[start[v], start[v + 1]).
+void corners_by_vertex(const TriangleMesh& mesh, std::vector<std::int32_t>& start,
+                       std::vector<std::int32_t>& corners) {
+  start.assign(mesh.vertices.size() + 1, 0);
+  for (const auto& t : mesh.triangles)
+    for (const std::int32_t v : t) ++start[static_cast<std::size_t>(v) + 1];
+  std::partial_sum(start.begin(), start.end(), start.begin());
+  corners.resize(static_cast<std::size_t>(start.back()));
+  std::vector<std::int32_t> fill(start.begin(), start.end() - 1);
+  for (std::size_t f = 0; f < mesh.triangles.size(); ++f)
+    for (int k = 0; k < 3; ++k)
+      corners[static_cast<std::size_t>(fill[static_cast<std::size_t>(mesh.triangles[f][k])]++)] =
+          static_cast<std::int32_t>(3 * f + k);
+}
+
+}  // namespace
+
+std::vector<std::int32_t> opposite_corners(const TriangleMesh& mesh) {
+  std::vector<std::int32_t> start, corners;
+  corners_by_vertex(mesh, start, corners);
+  const auto vertex = [&](std::int32_t c) { return mesh.triangles[static_cast<std::size_t>(c / 3)][c % 3]; };
+  std::vector<std::int32_t> opposite(3 * mesh.triangles.size(), -1);
+  // Corner c faces the edge u -> w of its triangle; the corner across faces w -> u, in the triangle
+  // where some corner k of w is followed by u.
+  tbb::parallel_for(std::size_t{0}, opposite.size(), [&](std::size_t i) {
+    const auto c = static_cast<std::int32_t>(i);
+    const std::int32_t u = vertex(next_corner(c)), w = vertex(previous_corner(c));
+    for (std::int32_t j = start[static_cast<std::size_t>(w)]; j < start[static_cast<std::size_t>(w) + 1];
+         ++j) {
+      const std::int32_t k = corners[static_cast<std::size_t>(j)];
+      if (vertex(next_corner(k)) == u) {
+        opposite[i] = previous_corner(k);
+        return;
+      }
+    }
+  });
+  if (std::find(opposite.begin(), opposite.end(), -1) != opposite.end())
+    throw std::runtime_error("mesh decimation: an edge has no triangle across it");
+  return opposite;
+}
+
+double min_angle_sine(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const double ab = (b - a).norm(), bc = (c - b).norm(), ca = (a - c).norm();
+  const double product = ab * bc * ca;
+  if (!(product > 0.0)) return 0.0;
+  return (b - a).cross(c - a).norm() * std::min({ab, bc, ca}) / product;
+}
+
+OriginalSurface::OriginalSurface(const TriangleMesh& mesh, const MeshSurface& surface,
+                                 const std::vector<std::int32_t>& opposite)
+    : mesh_(mesh), surface_(surface), opposite_(opposite) {
+  std::vector<std::int32_t> corners;
+  corners_by_vertex(mesh, start_, corners);
+  around_.resize(corners.size());
+  std::transform(corners.begin(), corners.end(), around_.begin(), [](std::int32_t c) { return c / 3; });
+  bounds_.resize(mesh.triangles.size());
+  tbb::parallel_for(std::size_t{0}, bounds_.size(), [&](std::size_t f) {
+    const auto& t = mesh.triangles[f];
+    const Vec3 &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
+    const Vec3 center = (a + b + c) / 3.0;
+    const double radius = std::max({(a - center).norm(), (b - center).norm(), (c - center).norm()});
+    bounds_[f] = {center, radius, classify_triangle(a, b, c)};
+  });
+  // Each corner weighted by its angle, so that the slivers of an isosurface mesh count for little.
+  normals_.assign(mesh.vertices.size(), Vec3::Zero());
+  for (const auto& t : mesh.triangles) {
+    const std::array<Vec3, 3> p = {mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]};
+    const Vec3 n = (p[1] - p[0]).cross(p[2] - p[0]).stableNormalized();
+    for (int i = 0; i < 3; ++i) {
+      const Vec3 e1 = (p[(i + 1) % 3] - p[i]).stableNormalized();
+      const Vec3 e2 = (p[(i + 2) % 3] - p[i]).stableNormalized();
+      normals_[t[i]] += std::acos(std::clamp(e1.dot(e2), -1.0, 1.0)) * n;
+    }
+  }
+  for (Vec3& n : normals_) n = n.stableNormalized();
+}
+
+double OriginalSurface::gap(const Vec3& p, std::int32_t f) const {
+  const Bound& b = bounds_[static_cast<std::size_t>(f)];
+  return std::max((p - b.center).norm() - b.radius, 0.0);
+}
+
+double OriginalSurface::distance2(const Vec3& p, std::int32_t f) const {
+  const auto& t = mesh_.triangles[static_cast<std::size_t>(f)];
+  const Vec3 q = closest_point_on_triangle(p, mesh_.vertices[t[0]], mesh_.vertices[t[1]],
+                                           mesh_.vertices[t[2]], bounds_[static_cast<std::size_t>(f)].shape);
+  return (q - p).squaredNorm();
+}
+
+bool OriginalSurface::near(const Vec3& p, std::initializer_list<std::int32_t> anchors,
+                           double tolerance) const {
+  const double tolerance2 = tolerance * tolerance;
+  std::int32_t at = -1;  // start where a bounding sphere comes nearest
+  double least_gap = std::numeric_limits<double>::infinity();
+  for (const std::int32_t v : anchors)
+    for (std::int32_t i = start_[v]; i < start_[v + 1]; ++i)
+      if (const double g = gap(p, around_[i]); g < least_gap) {
+        least_gap = g;
+        at = around_[i];
+      }
+  double best = distance2(p, at);
+  auto visit = [&](std::int32_t f) {
+    if (const double g = gap(p, f); g * g >= best) return;
+    if (const double d2 = distance2(p, f); d2 < best) {
+      best = d2;
+      at = f;
+    }
+  };
+  for (const std::int32_t v : anchors)
+    for (std::int32_t i = start_[v]; i < start_[v + 1] && best > tolerance2; ++i) visit(around_[i]);
+  for (int step = 0; step < kMaxWalk && best > tolerance2; ++step) {
+    const std::int32_t from = at;
+    for (int k = 0; k < 3; ++k) visit(opposite_[static_cast<std::size_t>(3 * from + k)] / 3);
+    if (at == from) break;
+  }
+  return best <= tolerance2 || surface_.distance_up_to(p, tolerance) <= tolerance;
+}
+
+}  // namespace poreshell

@@ -1,0 +1,98 @@
+#pragma once
+// What the edge collapses of the triangle reduction (edge_collapse.hpp) are measured against: the
+// original surface, as a corner table and as the test "is this point within the tolerance of it".
+
+#include <array>
+#include <bit>
+#include <cstdint>
+#include <vector>
+
+#include "geometry/mesh.hpp"
+#include "geometry/mesh_surface.hpp"
+
+namespace poreshell {
+
+// Corner c is corner c % 3 of triangle c / 3.
+inline std::int32_t next_corner(std::int32_t c) {
+  return c % 3 == 2 ? c - 2 : c + 1;
+}
+inline std::int32_t previous_corner(std::int32_t c) {
+  return c % 3 == 0 ? c + 2 : c - 1;
+}
+
+// For each corner of a closed, 2-manifold, consistently oriented mesh, the corner across the edge it
+// faces: the other triangle's corner that faces the same edge.
+std::vector<std::int32_t> opposite_corners(const TriangleMesh& mesh);
+
+// Sine of the smallest angle, 2 area * shortest edge / (product of the edges): 0 for a degenerate
+// triangle, sqrt(3)/2 for an equilateral one, whatever the scale.
+double min_angle_sine(const Vec3& a, const Vec3& b, const Vec3& c);
+
+// The original surface as the checks need it: vertex normals, and whether a point is near.
+class OriginalSurface {
+ public:
+  // `opposite` is opposite_corners(mesh); both outlive this.
+  OriginalSurface(const TriangleMesh& mesh, const MeshSurface& surface,
+                  const std::vector<std::int32_t>& opposite);
+
+  const Vec3& normal(std::int32_t v) const { return normals_[static_cast<std::size_t>(v)]; }
+
+  // Whether p is within the tolerance of the original surface. Starts from the triangles around
+  // the anchors, original vertices next to p, and walks across edges towards p while that comes
+  // closer: the reduced triangles are a few original ones across, so that usually settles it for a
+  // fraction of the cost of searching the whole surface, which is done only where the walk gets
+  // stuck. Exact either way.
+  bool near(const Vec3& p, std::initializer_list<std::int32_t> anchors, double tolerance) const;
+
+ private:
+  struct Bound {
+    Vec3 center;
+    double radius;  // of a sphere about center holding the triangle
+    TriangleShape shape;
+  };
+  double gap(const Vec3& p, std::int32_t f) const;  // a lower bound on the distance to triangle f
+  double distance2(const Vec3& p, std::int32_t f) const;
+
+  const TriangleMesh& mesh_;
+  const MeshSurface& surface_;
+  const std::vector<std::int32_t>& opposite_;
+  std::vector<std::int32_t> start_, around_;  // triangles around vertex v: around_[start_[v], start_[v + 1])
+  std::vector<Bound> bounds_;
+  std::vector<Vec3> normals_;
+};
+
+// Recent answers of OriginalSurface::near() for a triangle or an edge of original vertices: they
+// never change for a given tolerance, and a vertex's collapses are rated again after every collapse
+// next to it, asking many of the same questions. Direct-mapped and of bounded size: a miss costs the
+// question, never a different answer.
+class NearCache {
+ public:
+  explicit NearCache(std::size_t triangles)
+      : slots_(std::min(std::bit_ceil(2 * triangles + 1), std::size_t{1} << 20)) {}
+
+  // Triangle (a, b, c), or edge (a, b) with c = -1, in any order.
+  template <class Ask>
+  bool get(std::int32_t a, std::int32_t b, std::int32_t c, Ask&& ask) {
+    std::array<std::int32_t, 3> key = {a, b, c};
+    if (key[0] > key[1]) std::swap(key[0], key[1]);
+    if (key[1] > key[2]) std::swap(key[1], key[2]);
+    if (key[0] > key[1]) std::swap(key[0], key[1]);
+    std::uint64_t h = 0x9e3779b97f4a7c15ull;
+    for (const std::int32_t k : key) h = (h ^ static_cast<std::uint32_t>(k)) * 0xff51afd7ed558ccdull;
+    Slot& slot = slots_[(h >> 32) & (slots_.size() - 1)];
+    if (slot.key[0] != key[0] || slot.key[1] != key[1] || slot.key[2] != key[2]) {
+      slot.key = key;
+      slot.near = ask();
+    }
+    return slot.near;
+  }
+
+ private:
+  struct Slot {
+    std::array<std::int32_t, 3> key = {-2, -2, -2};
+    bool near = false;
+  };
+  std::vector<Slot> slots_;
+};
+
+}  // namespace poreshell
