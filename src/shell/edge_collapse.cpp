@@ -314,7 +314,7 @@ class Collapser {
   // Each new edge is the edge from v1 onwards of one new triangle.
   bool near_ok() {
     for (const NewTriangle& t : ring_) {
-      const auto [a, b, d] = t.v;
+      const std::int32_t a = t.v[0], b = t.v[1], d = t.v[2];  // not a structured binding: lambdas use them
       const Vec3 centroid = (point(a) + point(b) + point(d)) / 3.0;
       if (!cache_.get(a, b, d, [&] { return original_.near(centroid, {a, b, d}, tolerance_); })) return false;
       const Vec3 midpoint = 0.5 * (point(a) + point(b));
@@ -395,7 +395,7 @@ class Collapser {
     moved_.push_back(v0);
     for (const std::int32_t p : moved_) {
       double best = std::numeric_limits<double>::infinity();
-      std::int32_t nearest = -1;
+      std::int32_t nearest = fan_kept_.front() / 3;
       for (const std::int32_t k : fan_kept_) {
         const std::int32_t t = k / 3;
         const Vec3 q = closest_point_on_triangle(point(p), point(vertex(3 * t)), point(vertex(3 * t + 1)),
