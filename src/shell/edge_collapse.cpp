@@ -35,7 +35,7 @@ struct Quadric {
     yz += o.yz, yw += o.yw, zz += o.zz, zw += o.zw, ww += o.ww;
     return *this;
   }
-  // Both at p: q(p) + o(p), without forming the sum.
+  // The sum of squared distances at p.
   double at(const Vec3& p) const {
     const double x = p.x(), y = p.y(), z = p.z();
     return x * (xx * x + 2.0 * (xy * y + xz * z + xw)) + y * (yy * y + 2.0 * (yz * z + yw)) +
@@ -175,8 +175,7 @@ class Collapser {
       // errors only grow (the kept vertex's quadric did), but for its collapse onto the kept vertex,
       // new where it was next to v0: that one lowers its bound, if any.
       rate(kept);
-      fan(kept, fan_kept_);
-      for (const std::int32_t c : fan_kept_) {
+      for (const std::int32_t c : fan_kept_) {  // collapse() left the kept vertex's fan there
         const std::int32_t w = vertex(next_corner(c));
         const auto x = static_cast<std::size_t>(w);
         bound_[x] = std::min(bound_[x], error(w, kept));
