@@ -343,6 +343,17 @@ std::vector<Vec3> farthest_point_centres(const AreaSamples& samples, std::size_t
   return centres;
 }
 
+std::vector<Vec3> clear_of_open_edges(std::vector<Vec3> centres, std::span<const Segment> open_edges,
+                                      double clearance) {
+  if (open_edges.empty() || centres.empty() || !(clearance > 0.0)) return centres;
+  const std::vector<double> distance = segment_distances(centres, open_edges, clearance);
+  std::size_t kept = 0;
+  for (std::size_t c = 0; c < centres.size(); ++c)
+    if (distance[c] >= clearance) centres[kept++] = centres[c];
+  centres.resize(kept);
+  return centres;
+}
+
 std::vector<double> disc_field(const NarrowBand& band, std::span<const Vec3> centres, double radius,
                                double epsilon, std::span<const double> zone_weight,
                                std::optional<double> mean) {

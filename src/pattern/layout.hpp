@@ -10,6 +10,7 @@
 #include "band/band.hpp"
 #include "core/types.hpp"
 #include "geometry/surface.hpp"
+#include "pattern/solid_zones.hpp"
 
 namespace poreshell {
 
@@ -58,6 +59,13 @@ std::vector<Vec3> farthest_point_centres(const AreaSamples& samples, std::size_t
 // iterations settle them for the equation. Deterministic for a seed, on any thread count.
 std::vector<Vec3> even_layout(const NarrowBand& band, const Surface& surface,
                               std::span<const double> zone_weight, double spacing, std::uint64_t seed);
+
+// The centres at least `clearance` from every open edge (all in grid units). A disc whose pore comes
+// nearer an open edge than half an interface width is not a hole the equation keeps: on the bunny's
+// base (8 mm holes at 14 mm) the discs centred 3.3-4.1 mm from its open edges all closed and those
+// 4.8-5.3 mm away all stayed, and the layout is the preview's prediction of the holes.
+std::vector<Vec3> clear_of_open_edges(std::vector<Vec3> centres, std::span<const Segment> open_edges,
+                                      double clearance);
 
 // Discs of `radius` at `centres`, each voxel judged by its closest point: the equation's interface
 // profile tanh(x / (sqrt 2 epsilon)) across the disc's edge (+1 inside: a pore); solid (-1) where the

@@ -64,6 +64,15 @@ std::vector<Segment> boundary_segments(const TriangleMesh& mesh) {
   return out;
 }
 
+std::vector<double> segment_distances(std::span<const Vec3> points, std::span<const Segment> segments,
+                                      double reach) {
+  const SegmentBuckets buckets(segments, reach);
+  std::vector<double> out(points.size());
+  tbb::parallel_for(std::size_t{0}, points.size(),
+                    [&](std::size_t i) { out[i] = buckets.distance(points[i], reach); });
+  return out;
+}
+
 double segment_distance(const Vec3& p, const Segment& s) {
   const Vec3 d = s[1] - s[0];
   const double len2 = d.squaredNorm();

@@ -36,6 +36,10 @@ double box_distance(const Vec3& x, const SolidBox& b);
 // Edges with exactly one incident triangle (the open boundary), as segments.
 std::vector<Segment> boundary_segments(const TriangleMesh& mesh);
 
+// Each point's distance to the nearest segment, or `reach` where none is nearer (reach > 0).
+std::vector<double> segment_distances(std::span<const Vec3> points, std::span<const Segment> segments,
+                                      double reach);
+
 // Per band voxel, 1 within `rim` of a boundary segment or inside a keep-out sphere or box, 0 beyond a
 // further `ramp`, linear between (all lengths in the band's grid units).
 std::vector<double> solid_zone_weight(const NarrowBand& band, std::span<const Segment> boundary, double rim,

@@ -47,16 +47,20 @@ Layout resolve_layout(const Options& c, bool holes_in_mm) {
 namespace {
 
 // The even layout's start: discs at a centroidal Voronoi tessellation of the surface's free area
-// (pattern/layout.hpp), sized so that the pore level's contour is the asked diameter; for a run, on the
-// mean the equation's start had (the nonlocal term has a solution only for the mean it starts from).
-std::vector<double> even_layout_start(const PatternPlan& plan, double mm_per_grid, const NarrowBand& band,
-                                      const Surface& surface, std::span<const double> weight,
+// (pattern/layout.hpp), none whose pore would come within half an interface width of an open edge,
+// sized so that the pore level's contour is the asked diameter; for a run, on the mean the equation's
+// start had (the nonlocal term has a solution only for the mean it starts from).
+std::vector<double> even_layout_start(const PatternPlan& plan, const PlacedSurface& placed,
+                                      const NarrowBand& band, std::span<const double> weight,
                                       std::uint64_t seed, std::optional<double> mean, SolveResult& result) {
-  const double epsilon = result.model.epsilon;
-  const std::vector<Vec3> centres = even_layout(band, surface, weight, plan.spacing / mm_per_grid, seed);
+  const double epsilon = result.model.epsilon, mm_per_grid = placed.mm_per_grid();
+  const double pore_radius = 0.5 * plan.diameter / mm_per_grid;
+  const std::vector<Vec3> centres = clear_of_open_edges(
+      even_layout(band, *placed.surface, weight, plan.spacing / mm_per_grid, seed),
+      placed.mesh ? boundary_segments(*placed.mesh) : std::vector<Segment>{}, pore_radius + 0.5 * epsilon);
   result.layout_holes = static_cast<std::int64_t>(centres.size());
   // tanh((R - r) / (sqrt 2 eps)) = level at r = D / 2.
-  const double radius = 0.5 * plan.diameter / mm_per_grid + std::sqrt(2.0) * epsilon * std::atanh(plan.level);
+  const double radius = pore_radius + std::sqrt(2.0) * epsilon * std::atanh(plan.level);
   return disc_field(band, centres, radius, epsilon, weight, mean);
 }
 
@@ -159,8 +163,7 @@ SolveResult solve_pattern(const Options& c, const std::optional<PatternPlan>& pl
     if (!c.preview)
       mean = std::accumulate(fine_start.phi.begin(), fine_start.phi.end(), 0.0) /
              static_cast<double>(fine_start.phi.size());
-    fine_start.phi = even_layout_start(*plan, placed.mm_per_grid(), band, *placed.surface, fine_weight,
-                                       c.seed, mean, result);
+    fine_start.phi = even_layout_start(*plan, placed, band, fine_weight, c.seed, mean, result);
     // A preview's holes are these discs: the equation would only round them (issue 18: a second).
     if (c.preview) {
       result.phi = std::move(fine_start.phi);

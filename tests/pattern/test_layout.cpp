@@ -242,6 +242,38 @@ TEST(Layout, SpreadingKeepsCentresOffZonesAndThoseBesideThemInPlace) {
 
 // Pinholes: of a disc 0.16 wide and one 0.06 wide, with 0.1 the least, the small one is made solid and
 // the large one left as it is.
+// An open edge as a jagged polyline of long and short segments in the plane z = 0: the bucketed
+// distances are the brute-force ones (capped at the reach), and exactly the centres nearer the edge
+// than the clearance are dropped, the others kept in their order.
+TEST(Layout, CentresNearAnOpenEdgeAreDroppedAndTheRestKept) {
+  std::vector<Segment> edge;
+  std::mt19937 random(3);
+  std::uniform_real_distribution<double> jitter(-0.05, 0.05);
+  Vec3 at(0.0, 0.0, 0.0);
+  for (int i = 0; i < 40; ++i) {
+    const Vec3 next = at + Vec3(i % 7 == 0 ? 0.3 : 0.02, jitter(random), 0.0);
+    edge.push_back({at, next});
+    at = next;
+  }
+  std::uniform_real_distribution<double> x(-0.2, 1.8), y(-0.4, 0.4);
+  std::vector<Vec3> centres;
+  for (int i = 0; i < 400; ++i) centres.emplace_back(x(random), y(random), 0.3 * jitter(random));
+  const double clearance = 0.12;
+  const std::vector<double> distance = segment_distances(centres, edge, clearance);
+  std::vector<Vec3> expected;
+  for (std::size_t c = 0; c < centres.size(); ++c) {
+    double brute = clearance;
+    for (const Segment& s : edge) brute = std::min(brute, segment_distance(centres[c], s));
+    EXPECT_DOUBLE_EQ(distance[c], brute) << c;
+    if (brute >= clearance) expected.push_back(centres[c]);
+  }
+  const std::vector<Vec3> kept = clear_of_open_edges(centres, edge, clearance);
+  EXPECT_EQ(kept, expected);
+  EXPECT_GT(kept.size(), 100u);
+  EXPECT_LT(kept.size(), centres.size() - 50);
+  EXPECT_EQ(clear_of_open_edges(centres, {}, clearance), centres);  // a closed surface keeps them all
+}
+
 TEST(Layout, CloseSmallSpotsMakesPinholesSolidAndKeepsTheRest) {
   const Vec3 big = kCentre + kRadius * Vec3::UnitZ(), small = kCentre - kRadius * Vec3::UnitZ();
   const std::vector<double> a = disc_field(band(), std::vector<Vec3>{big}, 0.08, 0.01, {}, std::nullopt);
