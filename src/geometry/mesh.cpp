@@ -77,44 +77,6 @@ class SmallDisjointSets {
   std::vector<std::uint32_t> parent_;
 };
 
-// The triangles at each vertex (triangles with a repeated index left out), as compressed rows: the
-// triangles of v are incident[start[v] .. start[v + 1]), ascending.
-struct VertexTriangles {
-  std::vector<std::uint32_t> start;
-  std::vector<std::uint32_t> incident;
-};
-
-VertexTriangles vertex_triangles(std::size_t nv, const std::vector<Triangle>& triangles) {
-  const std::size_t nf = triangles.size();
-  std::vector<std::atomic<std::uint32_t>> count(nv);
-  tbb::parallel_for(std::size_t{0}, nv, [&](std::size_t v) { count[v].store(0, std::memory_order_relaxed); });
-  tbb::parallel_for(std::size_t{0}, nf, [&](std::size_t f) {
-    const auto& t = triangles[f];
-    if (!has_repeated_vertex(t))
-      for (std::int32_t v : t) count[static_cast<std::size_t>(v)].fetch_add(1, std::memory_order_relaxed);
-  });
-  VertexTriangles out;
-  out.start.resize(nv + 1);
-  out.start[0] = 0;
-  for (std::size_t v = 0; v < nv; ++v) {  // then count[v] is v's cursor
-    out.start[v + 1] = out.start[v] + count[v].load(std::memory_order_relaxed);
-    count[v].store(out.start[v], std::memory_order_relaxed);
-  }
-  out.incident.resize(out.start[nv]);
-  tbb::parallel_for(std::size_t{0}, nf, [&](std::size_t f) {
-    const auto& t = triangles[f];
-    if (!has_repeated_vertex(t))
-      for (std::int32_t v : t)
-        out.incident[count[static_cast<std::size_t>(v)].fetch_add(1, std::memory_order_relaxed)] =
-            static_cast<std::uint32_t>(f);
-  });
-  // Filled in any order by the tasks: sorted, so what follows does not depend on the thread count.
-  tbb::parallel_for(std::size_t{0}, nv, [&](std::size_t v) {
-    std::sort(out.incident.begin() + out.start[v], out.incident.begin() + out.start[v + 1]);
-  });
-  return out;
-}
-
 // What the pass over the vertices counts.
 struct VertexCounts {
   std::int64_t edges = 0, boundary_edges = 0, nonmanifold_edges = 0, misoriented_edges = 0;
@@ -221,6 +183,37 @@ double largest_angle_cosine(const TriangleMesh& mesh, const std::array<std::int3
 }
 
 }  // namespace
+
+VertexTriangles vertex_triangles(std::size_t nv, const std::vector<Triangle>& triangles) {
+  const std::size_t nf = triangles.size();
+  std::vector<std::atomic<std::uint32_t>> count(nv);
+  tbb::parallel_for(std::size_t{0}, nv, [&](std::size_t v) { count[v].store(0, std::memory_order_relaxed); });
+  tbb::parallel_for(std::size_t{0}, nf, [&](std::size_t f) {
+    const auto& t = triangles[f];
+    if (!has_repeated_vertex(t))
+      for (std::int32_t v : t) count[static_cast<std::size_t>(v)].fetch_add(1, std::memory_order_relaxed);
+  });
+  VertexTriangles out;
+  out.start.resize(nv + 1);
+  out.start[0] = 0;
+  for (std::size_t v = 0; v < nv; ++v) {  // then count[v] is v's cursor
+    out.start[v + 1] = out.start[v] + count[v].load(std::memory_order_relaxed);
+    count[v].store(out.start[v], std::memory_order_relaxed);
+  }
+  out.incident.resize(out.start[nv]);
+  tbb::parallel_for(std::size_t{0}, nf, [&](std::size_t f) {
+    const auto& t = triangles[f];
+    if (!has_repeated_vertex(t))
+      for (std::int32_t v : t)
+        out.incident[count[static_cast<std::size_t>(v)].fetch_add(1, std::memory_order_relaxed)] =
+            static_cast<std::uint32_t>(f);
+  });
+  // Filled in any order by the tasks: sorted, so what follows does not depend on the thread count.
+  tbb::parallel_for(std::size_t{0}, nv, [&](std::size_t v) {
+    std::sort(out.incident.begin() + out.start[v], out.incident.begin() + out.start[v + 1]);
+  });
+  return out;
+}
 
 TriangleSize triangle_size(const Vec3& a, const Vec3& b, const Vec3& c) {
   return {(b - a).cross(c - a).norm(),

@@ -62,6 +62,14 @@ inline std::vector<Edge> boundary_edges(const TriangleMesh& mesh) {
   return boundary_edges(mesh.vertices.size(), mesh.triangles);
 }
 
+// The triangles at each vertex (triangles with a repeated index left out), as compressed rows: the
+// triangles of v are incident[start[v] .. start[v + 1]), ascending. Indices must be in range.
+struct VertexTriangles {
+  std::vector<std::uint32_t> start;
+  std::vector<std::uint32_t> incident;
+};
+VertexTriangles vertex_triangles(std::size_t vertex_count, const std::vector<Triangle>& triangles);
+
 // Throws std::out_of_range for a vertex index outside the mesh. The result does not depend on the order
 // of the triangles or the thread count.
 MeshTopology analyze_topology(const TriangleMesh& mesh, const StageProgress& progress = {});

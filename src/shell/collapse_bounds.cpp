@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numeric>
 #include <stdexcept>
 
 namespace poreshell {
@@ -15,38 +14,24 @@ namespace {
 
 constexpr int kMaxWalk = 16;  // steps across the original surface before searching all of it
 
-// Corners around each vertex: corners[start[v], start[v + 1]).
-void corners_by_vertex(const TriangleMesh& mesh, std::vector<std::int32_t>& start,
-                       std::vector<std::int32_t>& corners) {
-  start.assign(mesh.vertices.size() + 1, 0);
-  for (const auto& t : mesh.triangles)
-    for (const std::int32_t v : t) ++start[static_cast<std::size_t>(v) + 1];
-  std::partial_sum(start.begin(), start.end(), start.begin());
-  corners.resize(static_cast<std::size_t>(start.back()));
-  std::vector<std::int32_t> fill(start.begin(), start.end() - 1);
-  for (std::size_t f = 0; f < mesh.triangles.size(); ++f)
-    for (int k = 0; k < 3; ++k)
-      corners[static_cast<std::size_t>(fill[static_cast<std::size_t>(mesh.triangles[f][k])]++)] =
-          static_cast<std::int32_t>(3 * f + k);
-}
-
 }  // namespace
 
 std::vector<std::int32_t> opposite_corners(const TriangleMesh& mesh) {
-  std::vector<std::int32_t> start, corners;
-  corners_by_vertex(mesh, start, corners);
+  const VertexTriangles at = vertex_triangles(mesh.vertices.size(), mesh.triangles);
   const auto vertex = [&](std::int32_t c) { return mesh.triangles[static_cast<std::size_t>(c / 3)][c % 3]; };
   std::vector<std::int32_t> opposite(3 * mesh.triangles.size(), -1);
   // Corner c faces the edge u -> w of its triangle; the corner across faces w -> u, in the triangle
-  // where some corner k of w is followed by u.
+  // at w where w is followed by u.
   tbb::parallel_for(std::size_t{0}, opposite.size(), [&](std::size_t i) {
     const auto c = static_cast<std::int32_t>(i);
     const std::int32_t u = vertex(next_corner(c)), w = vertex(previous_corner(c));
-    for (std::int32_t j = start[static_cast<std::size_t>(w)]; j < start[static_cast<std::size_t>(w) + 1];
-         ++j) {
-      const std::int32_t k = corners[static_cast<std::size_t>(j)];
-      if (vertex(next_corner(k)) == u) {
-        opposite[i] = previous_corner(k);
+    const auto x = static_cast<std::size_t>(w);
+    for (std::uint32_t j = at.start[x]; j < at.start[x + 1]; ++j) {
+      const auto f = static_cast<std::int32_t>(at.incident[j]);
+      const auto& t = mesh.triangles[static_cast<std::size_t>(f)];
+      const int k = t[0] == w ? 0 : (t[1] == w ? 1 : 2);
+      if (t[(k + 1) % 3] == u) {
+        opposite[i] = 3 * f + (k + 2) % 3;
         return;
       }
     }
@@ -65,11 +50,10 @@ double min_angle_sine(const Vec3& a, const Vec3& b, const Vec3& c) {
 
 OriginalSurface::OriginalSurface(const TriangleMesh& mesh, const MeshSurface& surface,
                                  const std::vector<std::int32_t>& opposite)
-    : mesh_(mesh), surface_(surface), opposite_(opposite) {
-  std::vector<std::int32_t> corners;
-  corners_by_vertex(mesh, start_, corners);
-  around_.resize(corners.size());
-  std::transform(corners.begin(), corners.end(), around_.begin(), [](std::int32_t c) { return c / 3; });
+    : mesh_(mesh),
+      surface_(surface),
+      opposite_(opposite),
+      around_(vertex_triangles(mesh.vertices.size(), mesh.triangles)) {
   bounds_.resize(mesh.triangles.size());
   tbb::parallel_for(std::size_t{0}, bounds_.size(), [&](std::size_t f) {
     const auto& t = mesh.triangles[f];
@@ -110,10 +94,10 @@ bool OriginalSurface::near(const Vec3& p, std::initializer_list<std::int32_t> an
   std::int32_t at = -1;  // start where a bounding sphere comes nearest
   double least_gap = std::numeric_limits<double>::infinity();
   for (const std::int32_t v : anchors)
-    for (std::int32_t i = start_[v]; i < start_[v + 1]; ++i)
-      if (const double g = gap(p, around_[i]); g < least_gap) {
+    for (const std::uint32_t f : triangles_at(v))
+      if (const double g = gap(p, static_cast<std::int32_t>(f)); g < least_gap) {
         least_gap = g;
-        at = around_[i];
+        at = static_cast<std::int32_t>(f);
       }
   double best = distance2(p, at);
   auto visit = [&](std::int32_t f) {
@@ -124,7 +108,10 @@ bool OriginalSurface::near(const Vec3& p, std::initializer_list<std::int32_t> an
     }
   };
   for (const std::int32_t v : anchors)
-    for (std::int32_t i = start_[v]; i < start_[v + 1] && best > tolerance2; ++i) visit(around_[i]);
+    for (const std::uint32_t f : triangles_at(v)) {
+      if (best <= tolerance2) break;
+      visit(static_cast<std::int32_t>(f));
+    }
   for (int step = 0; step < kMaxWalk && best > tolerance2; ++step) {
     const std::int32_t from = at;
     for (int k = 0; k < 3; ++k) visit(opposite_[static_cast<std::size_t>(3 * from + k)] / 3);

@@ -5,6 +5,7 @@
 #include <array>
 #include <bit>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "geometry/mesh.hpp"
@@ -52,11 +53,15 @@ class OriginalSurface {
   };
   double gap(const Vec3& p, std::int32_t f) const;  // a lower bound on the distance to triangle f
   double distance2(const Vec3& p, std::int32_t f) const;
+  std::span<const std::uint32_t> triangles_at(std::int32_t v) const {
+    const auto x = static_cast<std::size_t>(v);
+    return {around_.incident.data() + around_.start[x], around_.start[x + 1] - around_.start[x]};
+  }
 
   const TriangleMesh& mesh_;
   const MeshSurface& surface_;
   const std::vector<std::int32_t>& opposite_;
-  std::vector<std::int32_t> start_, around_;  // triangles around vertex v: around_[start_[v], start_[v + 1])
+  const VertexTriangles around_;
   std::vector<Bound> bounds_;
   std::vector<Vec3> normals_;
 };
