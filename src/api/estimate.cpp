@@ -34,9 +34,10 @@ constexpr double kPeakFixedBytes = 50.0 * 1024 * 1024, kPeakBytesPerVoxel = 275.
 constexpr double kTrianglesPerShellCell = 4.8;  // per band voxel, times (h / shell spacing)^2
 // `max_triangles`: the reduction's cost per collapse (two triangles) and its structures per triangle of
 // the meshed shell, on top of the run (docs/benchmarks.md "Estimates": 324-368 bytes a triangle,
-// measured on the bunny and two spheres; "Triangle reduction on flat arrays": 41-46 us a collapse on
-// the sphere, 55-57 on the bunny).
-constexpr double kSecondsPerCollapse = 50e-6, kReductionBytesPerTriangle = 370.0;
+// measured on the bunny and two spheres, and 16 more for the parallel parts' own heaps; "Triangle
+// reduction on flat arrays": one core 41-46 us a collapse on the sphere, 55-57 on the bunny; the
+// parts on 2 cores 0.54-0.68 of that).
+constexpr double kSecondsPerCollapse = 29e-6, kReductionBytesPerTriangle = 386.0;
 constexpr double kStlBytesPerTriangle = 50.0;
 constexpr double kStlHeaderBytes = 84.0;
 // A preview: a mesh input split as the pipeline splits it (counted, not guessed); other inputs as the

@@ -1,15 +1,19 @@
 #include "shell/edge_collapse.hpp"
 
 // A corner table (each corner's vertex, and the corner across the edge it faces), error quadrics and
-// an indexed heap of vertices. OpenMesh's DecimaterT made the same collapses under the same rules in
-// 2.3-2.6 times the time, much of it in its own structures (docs/benchmarks.md "Triangle reduction on
-// flat arrays").
+// an indexed heap of vertices per worker, the workers on separate parts of the mesh at once. OpenMesh's
+// DecimaterT made the same collapses under the same rules, on one core, in 2.3-2.6 times the time of
+// one worker here; the parts on 2 cores take 0.54-0.68 of one worker's time (docs/benchmarks.md
+// "Triangle reduction on flat arrays").
+
+#include <tbb/parallel_for.h>
 
 #include <Eigen/Geometry>  // cross()
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <numeric>
 #include <stdexcept>
 #include <tuple>
 
@@ -49,6 +53,7 @@ class VertexHeap {
   explicit VertexHeap(std::size_t vertices) : place_(vertices, -1), key_(vertices, 0.0) {}
 
   bool empty() const { return heap_.empty(); }
+  const std::vector<std::int32_t>& vertices() const { return heap_; }
   std::int32_t top() const { return heap_.front(); }
 
   void set(std::int32_t v, double key) {
@@ -117,6 +122,13 @@ class VertexHeap {
 
 // A collapse is named by the corner c of v0 in the triangle that runs v0 -> v1 -> vl; the triangle
 // across the edge runs v1 -> v0 -> vr.
+//
+// The collapses run as workers, each on its own part of the mesh: a worker moves only vertices it
+// owns (owner_ is its part), and a vertex is owned only where all its neighbours are in the same part.
+// A collapse reads and writes the triangles around v0 and v1 and those across their outer edges,
+// all of whose vertices are then in the part: the parts' collapses touch disjoint data and may run at
+// once. The vertices along the cuts between parts belong to none; a last worker owning every vertex
+// goes on from there to the target (see run()).
 class Collapser {
  public:
   Collapser(const TriangleMesh& mesh, const std::vector<std::int32_t>& opposite,
@@ -128,17 +140,14 @@ class Collapser {
         vertex_corner_(mesh.vertices.size(), -1),
         valence_(mesh.vertices.size(), 0),
         dead_(mesh.triangles.size(), 0),
-        live_(mesh.triangles.size()),
         quadric_(mesh.vertices.size()),
         sine_(mesh.triangles.size()),
         first_point_(mesh.triangles.size(), -1),
         next_point_(mesh.vertices.size(), -1),
-        mark_(mesh.vertices.size(), 0),
+        owner_(mesh.vertices.size(), 0),
         bound_(mesh.vertices.size(), 0.0),
         checked_(mesh.vertices.size(), 0),
-        target_(mesh.vertices.size(), -1),
-        heap_(mesh.vertices.size()),
-        cache_(mesh.triangles.size()) {
+        target_(mesh.vertices.size(), -1) {
     // A closed manifold's vertex has as many triangles as edges: its valence counts its corners.
     for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
       const auto& t = mesh.triangles[f];
@@ -147,50 +156,72 @@ class Collapser {
         vertex_corner_[static_cast<std::size_t>(t[k])] = static_cast<std::int32_t>(3 * f + k);
         ++valence_[static_cast<std::size_t>(t[k])];
       }
+    }
+    tbb::parallel_for(std::size_t{0}, mesh.triangles.size(), [&](std::size_t f) {
+      const auto& t = mesh.triangles[f];
+      const Vec3 &a = points_[t[0]], &b = points_[t[1]], &c = points_[t[2]];
+      sine_[f] = min_angle_sine(a, b, c);
+    });
+    // In triangle order: the same sums on any thread count.
+    for (const auto& t : mesh.triangles) {
       const Vec3 &a = points_[t[0]], &b = points_[t[1]], &c = points_[t[2]];
       const Vec3 n = (b - a).cross(c - a);
       const double twice_area = n.norm();
       const Vec3 unit = twice_area > 0.0 ? Vec3(n / twice_area) : Vec3::Zero();
       const Quadric q = Quadric::plane(unit, -unit.dot(a), 0.5 * twice_area);
       for (int k = 0; k < 3; ++k) quadric_[static_cast<std::size_t>(t[k])] += q;
-      sine_[f] = min_angle_sine(a, b, c);
     }
-    for (std::size_t v = 0; v < points_.size(); ++v)
-      if (vertex_corner_[v] >= 0) rate(static_cast<std::int32_t>(v));
   }
 
+  // Collapses until at most `target` triangles are left or none passes the rules. A mesh of at least
+  // kParallelTriangles first runs kParts workers at once on slabs of equal vertex counts along its
+  // longest side, each to its share of the collapses; the same slabs whatever the thread count, so
+  // the same result.
   void run(std::size_t target, const StageProgress& progress) {
-    const std::size_t collapses = live_ > target ? (live_ - target) / 2 : 0;
-    std::size_t done = 0;
-    while (live_ > target && !heap_.empty()) {
-      const std::int32_t v = heap_.top();
-      const auto u = static_cast<std::size_t>(v);
-      if (!checked_[u] || vertex(target_[u]) != v || !topology_ok(target_[u])) {
-        choose(v);
-        continue;
-      }
-      const std::int32_t kept = vertex(next_corner(target_[u]));
-      collapse(target_[u]);
-      // Every vertex whose collapses the change could touch is next to the kept one. Its collapses'
-      // errors only grow (the kept vertex's quadric did), but for its collapse onto the kept vertex,
-      // new where it was next to v0: that one lowers its bound, if any.
-      rate(kept);
-      for (const std::int32_t c : fan_kept_) {  // collapse() left the kept vertex's fan there
-        const std::int32_t w = vertex(next_corner(c));
-        const auto x = static_cast<std::size_t>(w);
-        bound_[x] = std::min(bound_[x], error(w, kept));
-        checked_[x] = 0;
-        heap_.set(w, bound_[x]);
-      }
-      if (++done % kReportEvery == 0)
-        progress.advance(static_cast<double>(done) / static_cast<double>(collapses));
+    const std::size_t live = live_triangles();
+    if (live <= target) return;
+    LoopProgress loop(progress, (live - target) / 2);
+    std::vector<char> candidate(points_.size(), 1);
+    if (live >= kParallelTriangles) {
+      const std::vector<std::size_t> share = split_into_parts(kParts);
+      std::vector<std::size_t> removed(kParts, 0);
+      std::vector<std::vector<std::int32_t>> left(kParts);
+      tbb::parallel_for(0, kParts, [&](int part) {
+        const auto p = static_cast<std::size_t>(part);
+        Worker worker(part, points_.size(), share[p]);
+        // Each part's share of the triangles to remove, a little short: the last worker then has
+        // enough left to bring the cuts, still at full resolution, down with the rest.
+        const auto quota =
+            static_cast<std::size_t>(0.98 * static_cast<double>(live - target) *
+                                     static_cast<double>(share[p]) / static_cast<double>(live));
+        removed[p] = collapse_until(worker, quota, candidate, loop);
+        left[p] = worker.heap.vertices();
+      });
+      // The last worker tries the vertices along the cuts and those still in a part's heap; the
+      // others failed every collapse and stay out until a collapse next to them, as in one run.
+      std::fill(candidate.begin(), candidate.end(), 0);
+      for (const auto& vertices : left)
+        for (const std::int32_t v : vertices) candidate[static_cast<std::size_t>(v)] = 1;
+      std::vector<std::int32_t> around;
+      for (std::size_t v = 0; v < points_.size(); ++v)
+        if (owner_[v] < 0 && vertex_corner_[v] >= 0) {
+          candidate[v] = 1;
+          fan(static_cast<std::int32_t>(v), around);
+          for (const std::int32_t c : around) candidate[static_cast<std::size_t>(vertex(next_corner(c)))] = 1;
+        }
+      std::fill(owner_.begin(), owner_.end(), 0);
+      const std::size_t all = std::accumulate(removed.begin(), removed.end(), std::size_t{0});
+      Worker last(0, points_.size(), live);
+      collapse_until(last, live - all > target ? live - all - target : 0, candidate, loop);
+    } else {
+      Worker worker(0, points_.size(), live);
+      collapse_until(worker, live - target, candidate, loop);
     }
     progress.check();
   }
 
   std::vector<std::array<std::int32_t, 3>> triangles() const {
     std::vector<std::array<std::int32_t, 3>> out;
-    out.reserve(live_);
     for (std::size_t f = 0; f < dead_.size(); ++f)
       if (!dead_[f])
         out.push_back({corners_[3 * f].vertex, corners_[3 * f + 1].vertex, corners_[3 * f + 2].vertex});
@@ -198,12 +229,111 @@ class Collapser {
   }
 
  private:
+  // Parts for meshes from this many triangles (below, a reduction takes milliseconds either way). 4
+  // parts took 12.5 s on the bunny's 1.5 M triangles on 2 cores, 2 and 8 parts 14.4 s (docs/benchmarks.md
+  // "Triangle reduction on flat arrays"); the count is fixed, not the thread count, so that the
+  // result is too.
+  static constexpr std::size_t kParallelTriangles = 10'000;
+  static constexpr int kParts = 4;
+
   struct NewTriangle {
     std::array<std::int32_t, 3> v;
     int kept;  // the corner where v0 was
   };
 
+  // What one sequence of collapses keeps for itself.
+  struct Worker {
+    // `questions`: about how many distinct ones the cache should hold (NearCache).
+    Worker(int owned_part, std::size_t vertices, std::size_t questions)
+        : part(owned_part), heap(vertices), mark(vertices, 0), cache(questions) {}
+    int part;
+    VertexHeap heap;
+    std::vector<std::uint32_t> mark;  // stamp on v0's neighbours during a link test
+    std::uint32_t stamp = 0;
+    NearCache cache;
+    // Scratch, kept to save allocations.
+    std::vector<std::int32_t> scratch, fan_rated, fan_check, fan_kept, moved;
+    std::vector<std::tuple<double, std::int32_t, std::int32_t>> candidates;  // (error, v1, corner)
+    std::vector<NewTriangle> ring;
+  };
+
+  std::size_t live_triangles() const {
+    return static_cast<std::size_t>(std::count(dead_.begin(), dead_.end(), 0));
+  }
+
+  // Slabs along the longest side, of equal vertex counts; a vertex with a neighbour in another slab
+  // is owned by no part (-1). Returns each part's triangles (those whose first vertex it owns).
+  std::vector<std::size_t> split_into_parts(int parts) {
+    Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+    for (const Vec3& p : points_) {
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+    int axis = 0;
+    (hi - lo).maxCoeff(&axis);
+    std::vector<std::int32_t> order(points_.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(), [&](std::int32_t a, std::int32_t b) {
+      const double pa = point(a)[axis], pb = point(b)[axis];
+      return pa < pb || (pa == pb && a < b);
+    });
+    for (std::size_t i = 0; i < order.size(); ++i)
+      owner_[static_cast<std::size_t>(order[i])] =
+          static_cast<std::int32_t>(i * static_cast<std::size_t>(parts) / order.size());
+    std::vector<char> cut(points_.size(), 0);
+    for (std::size_t f = 0; f < dead_.size(); ++f) {
+      const std::int32_t a = vertex(3 * f), b = vertex(3 * f + 1), c = vertex(3 * f + 2);
+      if (owner_[a] != owner_[b] || owner_[b] != owner_[c]) cut[a] = cut[b] = cut[c] = 1;
+    }
+    std::vector<std::size_t> share(static_cast<std::size_t>(parts), 0);
+    for (std::size_t f = 0; f < dead_.size(); ++f) ++share[static_cast<std::size_t>(owner_[vertex(3 * f)])];
+    for (std::size_t v = 0; v < cut.size(); ++v)
+      if (cut[v]) owner_[v] = -1;
+    return share;
+  }
+
+  // The worker's collapses, starting from the candidate vertices it owns, until `quota` triangles are
+  // gone or none of its vertices can move; returns how many triangles went.
+  std::size_t collapse_until(Worker& w, std::size_t quota, const std::vector<char>& candidate,
+                             LoopProgress& loop) {
+    for (std::size_t v = 0; v < points_.size(); ++v)
+      if (candidate[v] && vertex_corner_[v] >= 0 && owns(w, static_cast<std::int32_t>(v)))
+        rate(w, static_cast<std::int32_t>(v));
+    std::size_t removed = 0, unreported = 0;
+    while (removed < quota && !w.heap.empty()) {
+      const std::int32_t v = w.heap.top();
+      const auto u = static_cast<std::size_t>(v);
+      if (!checked_[u] || vertex(target_[u]) != v || !topology_ok(w, target_[u])) {
+        choose(w, v);
+        continue;
+      }
+      const std::int32_t kept = vertex(next_corner(target_[u]));
+      collapse(w, target_[u]);
+      removed += 2;
+      // Every vertex whose collapses the change could touch is next to the kept one. Its collapses'
+      // errors only grow (the kept vertex's quadric did), but for its collapse onto the kept vertex,
+      // new where it was next to v0: that one lowers its bound, if any.
+      rate(w, kept);
+      for (const std::int32_t c : w.fan_kept) {  // collapse() left the kept vertex's fan there
+        const std::int32_t n = vertex(next_corner(c));
+        if (!owns(w, n)) continue;
+        const auto x = static_cast<std::size_t>(n);
+        bound_[x] = std::min(bound_[x], error(n, kept));
+        checked_[x] = 0;
+        w.heap.set(n, bound_[x]);
+      }
+      if (++unreported == kReportEvery) {
+        loop.done(unreported);
+        unreported = 0;
+      }
+    }
+    loop.done(unreported);
+    return removed;
+  }
+
+  bool owns(const Worker& w, std::int32_t v) const { return owner_[static_cast<std::size_t>(v)] == w.part; }
   std::int32_t vertex(std::int32_t c) const { return corners_[static_cast<std::size_t>(c)].vertex; }
+  std::int32_t vertex(std::size_t c) const { return corners_[c].vertex; }
   std::int32_t across(std::int32_t c) const { return corners_[static_cast<std::size_t>(c)].opposite; }
   const Vec3& point(std::int32_t v) const { return points_[static_cast<std::size_t>(v)]; }
 
@@ -219,10 +349,10 @@ class Collapser {
   }
   // The link condition: v0 and v1 share no neighbour but vl and vr. A valence-3 vertex beside the
   // edge would be left with two triangles back to back.
-  bool topology_ok(std::int32_t c) {
+  bool topology_ok(Worker& w, std::int32_t c) {
     if (c < 0 || dead_[static_cast<std::size_t>(c / 3)]) return false;
-    mark_neighbours(vertex(c));
-    return link_ok(c);
+    mark_neighbours(w, vertex(c));
+    return link_ok(w, c);
   }
 
   // Of the collapse of v0 onto v1. Round-off can make the quadric of a flat collapse negative.
@@ -235,106 +365,109 @@ class Collapser {
 
   // Whether the collapse through corner c of v keeps the mesh 2-manifold, with v's neighbours
   // marked (mark_neighbours(v)): the test of topology_ok().
-  bool link_ok(std::int32_t c) {
+  bool link_ok(Worker& w, std::int32_t c) {
     const std::int32_t v1 = vertex(next_corner(c)), vl = vertex(previous_corner(c));
     const std::int32_t vr = vertex(across(previous_corner(c)));
     if (vl == vr || valence_[static_cast<std::size_t>(vl)] <= 3 ||
         valence_[static_cast<std::size_t>(vr)] <= 3)
       return false;
-    fan(v1, scratch_);
-    for (const std::int32_t k : scratch_) {
-      const std::int32_t w = vertex(next_corner(k));
-      if (w != vl && w != vr && mark_[static_cast<std::size_t>(w)] == stamp_) return false;
+    fan(v1, w.scratch);
+    for (const std::int32_t k : w.scratch) {
+      const std::int32_t n = vertex(next_corner(k));
+      if (n != vl && n != vr && w.mark[static_cast<std::size_t>(n)] == w.stamp) return false;
     }
     return true;
   }
-  void mark_neighbours(std::int32_t v) {
-    fan(v, fan_rated_);
-    ++stamp_;
-    for (const std::int32_t c : fan_rated_) mark_[static_cast<std::size_t>(vertex(next_corner(c)))] = stamp_;
+  void mark_neighbours(Worker& w, std::int32_t v) {
+    fan(v, w.fan_rated);
+    ++w.stamp;
+    for (const std::int32_t c : w.fan_rated)
+      w.mark[static_cast<std::size_t>(vertex(next_corner(c)))] = w.stamp;
   }
 
   // The least error of v's collapses: a lower bound on the collapse choose() would make, which is
   // all the heap needs until v comes to its top (so the link condition, which costs a walk around
   // each neighbour, waits until then too).
-  void rate(std::int32_t v) {
+  void rate(Worker& w, std::int32_t v) {
     const auto u = static_cast<std::size_t>(v);
     checked_[u] = 0;
-    fan(v, fan_rated_);
+    fan(v, w.fan_rated);
     bound_[u] = std::numeric_limits<double>::infinity();
-    for (const std::int32_t c : fan_rated_) bound_[u] = std::min(bound_[u], error(c));
-    heap_.set(v, bound_[u]);
+    for (const std::int32_t c : w.fan_rated) bound_[u] = std::min(bound_[u], error(c));
+    w.heap.set(v, bound_[u]);
   }
 
-  // v's least-error collapse that passes all the rules, or none: v leaves the heap until a collapse
-  // next to it rates it again.
-  void choose(std::int32_t v) {
+  // v's least-error collapse onto a vertex the worker owns that passes all the rules, or none: v
+  // leaves the heap until a collapse next to it rates it again.
+  void choose(Worker& w, std::int32_t v) {
     const auto u = static_cast<std::size_t>(v);
-    mark_neighbours(v);
-    candidates_.clear();
-    for (const std::int32_t c : fan_rated_) candidates_.emplace_back(error(c), vertex(next_corner(c)), c);
-    std::sort(candidates_.begin(), candidates_.end());  // ties by the kept vertex: deterministic
-    bound_[u] = std::get<0>(candidates_.front());
-    for (const auto& [e, kept, c] : candidates_)
-      if (link_ok(c) && shape_ok(c) && near_ok() && hausdorff_ok(c)) {
+    mark_neighbours(w, v);
+    w.candidates.clear();
+    for (const std::int32_t c : w.fan_rated) w.candidates.emplace_back(error(c), vertex(next_corner(c)), c);
+    std::sort(w.candidates.begin(), w.candidates.end());  // ties by the kept vertex: deterministic
+    bound_[u] = std::get<0>(w.candidates.front());
+    for (const auto& [e, kept, c] : w.candidates)
+      if (owns(w, kept) && link_ok(w, c) && shape_ok(w, c) && near_ok(w) && hausdorff_ok(w, c)) {
         checked_[u] = 1;
         target_[u] = c;
-        heap_.set(v, e);
+        w.heap.set(v, e);
         return;
       }
     checked_[u] = 0;
-    heap_.remove(v);
+    w.heap.remove(v);
   }
 
-  // Angles and normals of the triangles the collapse changes; keeps them in ring_ for the checks
-  // after.
-  bool shape_ok(std::int32_t c) {
+  // Angles and normals of the triangles the collapse changes; keeps them in the worker's ring for
+  // the checks after.
+  bool shape_ok(Worker& w, std::int32_t c) {
     const std::int32_t v0 = vertex(c), v1 = vertex(next_corner(c));
     const std::int32_t left = c / 3, right = across(previous_corner(c)) / 3;
-    fan(v0, fan_check_);
+    fan(v0, w.fan_check);
     double before = 1.0;
-    for (const std::int32_t k : fan_check_) before = std::min(before, sine_[static_cast<std::size_t>(k / 3)]);
+    for (const std::int32_t k : w.fan_check)
+      before = std::min(before, sine_[static_cast<std::size_t>(k / 3)]);
     const double least = std::min(min_sine_, before);
-    ring_.clear();
-    for (const std::int32_t k : fan_check_) {
+    w.ring.clear();
+    for (const std::int32_t k : w.fan_check) {
       if (k / 3 == left || k / 3 == right) continue;  // removed by the collapse
       NewTriangle t{{vertex(k), vertex(next_corner(k)), vertex(previous_corner(k))}, 0};
       t.v[0] = v1;
       const Vec3 &a = point(t.v[0]), &b = point(t.v[1]), &d = point(t.v[2]);
       if (min_angle_sine(a, b, d) < least) return false;
       const Vec3 n = (b - a).cross(d - a).stableNormalized();
-      for (const std::int32_t w : t.v)
-        if (original_.normal(w).dot(n) < min_cos_) return false;
-      ring_.push_back(t);
+      for (const std::int32_t x : t.v)
+        if (original_.normal(x).dot(n) < min_cos_) return false;
+      w.ring.push_back(t);
     }
     return true;
   }
 
   // Each new edge is the edge from v1 onwards of one new triangle.
-  bool near_ok() {
-    for (const NewTriangle& t : ring_) {
+  bool near_ok(Worker& w) const {
+    for (const NewTriangle& t : w.ring) {
       const std::int32_t a = t.v[0], b = t.v[1], d = t.v[2];  // not a structured binding: lambdas use them
       const Vec3 centroid = (point(a) + point(b) + point(d)) / 3.0;
-      if (!cache_.get(a, b, d, [&] { return original_.near(centroid, {a, b, d}, tolerance_); })) return false;
+      if (!w.cache.get(a, b, d, [&] { return original_.near(centroid, {a, b, d}, tolerance_); }))
+        return false;
       const Vec3 midpoint = 0.5 * (point(a) + point(b));
-      if (!cache_.get(a, b, -1, [&] { return original_.near(midpoint, {a, b}, tolerance_); })) return false;
+      if (!w.cache.get(a, b, -1, [&] { return original_.near(midpoint, {a, b}, tolerance_); })) return false;
     }
     return true;
   }
 
   // The vertex removed and the original vertices removed before, on the triangles around it, each
   // within the tolerance of one of the new triangles.
-  bool hausdorff_ok(std::int32_t c) {
+  bool hausdorff_ok(const Worker& w, std::int32_t c) const {
     const double tolerance2 = tolerance_ * tolerance_;
     const auto within = [&](const Vec3& p) {
-      for (const NewTriangle& t : ring_)
+      for (const NewTriangle& t : w.ring)
         if ((closest_point_on_triangle(p, point(t.v[0]), point(t.v[1]), point(t.v[2])) - p).squaredNorm() <=
             tolerance2)
           return true;
       return false;
     };
     if (!within(point(vertex(c)))) return false;
-    for (const std::int32_t k : fan_check_)
+    for (const std::int32_t k : w.fan_check)
       for (std::int32_t p = first_point_[static_cast<std::size_t>(k / 3)]; p >= 0;
            p = next_point_[static_cast<std::size_t>(p)])
         if (!within(point(p))) return false;
@@ -347,55 +480,54 @@ class Collapser {
     throw std::runtime_error("mesh decimation: a corner table lost a vertex");
   }
 
-  void collapse(std::int32_t c) {
+  void collapse(Worker& w, std::int32_t c) {
     const std::int32_t v0 = vertex(c), v1 = vertex(next_corner(c)), vl = vertex(previous_corner(c));
     const std::int32_t e = across(previous_corner(c));  // vr's corner
     const std::int32_t vr = vertex(e), left = c / 3, right = e / 3;
     const std::int32_t right0 = previous_corner(e), right1 = next_corner(e);  // v0's and v1's
-    fan(v0, fan_check_);
+    fan(v0, w.fan_check);
     // The triangles across the removed ones' outer edges now face each other.
     const std::int32_t a = across(c), b = across(next_corner(c)), f = across(right0), g = across(right1);
     corners_[static_cast<std::size_t>(a)].opposite = b;
     corners_[static_cast<std::size_t>(b)].opposite = a;
     corners_[static_cast<std::size_t>(f)].opposite = g;
     corners_[static_cast<std::size_t>(g)].opposite = f;
-    for (const std::int32_t k : fan_check_)
+    for (const std::int32_t k : w.fan_check)
       if (k / 3 != left && k / 3 != right) corners_[static_cast<std::size_t>(k)].vertex = v1;
     dead_[static_cast<std::size_t>(left)] = dead_[static_cast<std::size_t>(right)] = 1;
-    live_ -= 2;
     vertex_corner_[static_cast<std::size_t>(v0)] = -1;
     vertex_corner_[static_cast<std::size_t>(v1)] = corner_in(a / 3, v1);
     vertex_corner_[static_cast<std::size_t>(vl)] = corner_in(a / 3, vl);
     vertex_corner_[static_cast<std::size_t>(vr)] = corner_in(f / 3, vr);
-    heap_.remove(v0);
+    w.heap.remove(v0);
     // v1 gains v0's neighbours but the shared vl and vr (the link condition); they lose v0.
     valence_[static_cast<std::size_t>(v1)] += valence_[static_cast<std::size_t>(v0)] - 4;
     --valence_[static_cast<std::size_t>(vl)];
     --valence_[static_cast<std::size_t>(vr)];
     quadric_[static_cast<std::size_t>(v1)] += quadric_[static_cast<std::size_t>(v0)];
 
-    fan(v1, fan_kept_);
-    for (const std::int32_t k : fan_kept_) {
+    fan(v1, w.fan_kept);
+    for (const std::int32_t k : w.fan_kept) {
       const std::int32_t t = k / 3;
       sine_[static_cast<std::size_t>(t)] =
           min_angle_sine(point(vertex(3 * t)), point(vertex(3 * t + 1)), point(vertex(3 * t + 2)));
     }
     // The removed vertices on the changed triangles, and v0, each go to the nearest triangle around v1.
-    moved_.clear();
+    w.moved.clear();
     const auto take = [&](std::int32_t t) {
       for (std::int32_t p = first_point_[static_cast<std::size_t>(t)]; p >= 0;
            p = next_point_[static_cast<std::size_t>(p)])
-        moved_.push_back(p);
+        w.moved.push_back(p);
       first_point_[static_cast<std::size_t>(t)] = -1;
     };
     take(left);
     take(right);
-    for (const std::int32_t k : fan_kept_) take(k / 3);
-    moved_.push_back(v0);
-    for (const std::int32_t p : moved_) {
+    for (const std::int32_t k : w.fan_kept) take(k / 3);
+    w.moved.push_back(v0);
+    for (const std::int32_t p : w.moved) {
       double best = std::numeric_limits<double>::infinity();
-      std::int32_t nearest = fan_kept_.front() / 3;
-      for (const std::int32_t k : fan_kept_) {
+      std::int32_t nearest = w.fan_kept.front() / 3;
+      for (const std::int32_t k : w.fan_kept) {
         const std::int32_t t = k / 3;
         const Vec3 q = closest_point_on_triangle(point(p), point(vertex(3 * t)), point(vertex(3 * t + 1)),
                                                  point(vertex(3 * t + 2)));
@@ -424,25 +556,15 @@ class Collapser {
   std::vector<std::int32_t> vertex_corner_;  // a corner of each vertex in a live triangle; -1: removed
   std::vector<std::int32_t> valence_;        // per vertex
   std::vector<char> dead_;                   // per triangle
-  std::size_t live_;
-  std::vector<Quadric> quadric_;  // per vertex
-  std::vector<double> sine_;      // of each triangle's smallest angle, kept up to date
+  std::vector<Quadric> quadric_;             // per vertex
+  std::vector<double> sine_;                 // of each triangle's smallest angle, kept up to date
   // The removed vertices, each on the list of the triangle it is nearest among those it was
   // distributed over: first_point_ per triangle, next_point_ per vertex, -1 ends a list.
   std::vector<std::int32_t> first_point_, next_point_;
-
-  std::vector<std::uint32_t> mark_;  // stamp_ on v1's neighbours during a link test
-  std::uint32_t stamp_ = 0;
+  std::vector<std::int32_t> owner_;   // per vertex: the part whose worker may move it; -1: none
   std::vector<double> bound_;         // per vertex: at most the error of each of its collapses
   std::vector<char> checked_;         // target_ passed all the rules and the heap holds its error
   std::vector<std::int32_t> target_;  // per vertex: the collapse chosen
-  VertexHeap heap_;
-  NearCache cache_;
-
-  // Scratch, kept to save allocations.
-  std::vector<std::int32_t> scratch_, fan_rated_, fan_check_, fan_kept_, moved_;
-  std::vector<std::tuple<double, std::int32_t, std::int32_t>> candidates_;  // (error, v1, corner)
-  std::vector<NewTriangle> ring_;
 };
 
 }  // namespace
