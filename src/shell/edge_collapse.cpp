@@ -229,7 +229,7 @@ class Collapser {
   }
 
  private:
-  // Parts for meshes from this many triangles (below, a reduction takes milliseconds either way). 4
+  // Parts for meshes from this many triangles (below, a reduction takes tens of milliseconds). 4
   // parts took 12.5 s on the bunny's 1.5 M triangles on 2 cores, 2 and 8 parts 14.4 s (docs/benchmarks.md
   // "Triangle reduction on flat arrays"); the count is fixed, not the thread count, so that the
   // result is too.
