@@ -391,8 +391,10 @@ py::dict holes_dict(const std::vector<poreshell::Hole>& holes) {
 // Runs perforate() on a thread of its own while this (the calling, usually main) thread waits with the
 // GIL released, checking for signals every 50 ms: Ctrl-C sets the cancel flag, and the run stops within
 // about half a second. The progress callback takes the GIL from the run's threads.
-py::tuple run(const InputBox& input, const py::dict& kwargs, const py::object& progress, double max_seconds) {
-  const poreshell::Options options = to_options(kwargs);
+// perforate() or a prepared run, by `perforate`, on a thread of its own with the GIL released, the
+// progress callback and Ctrl-C served from here; the outputs as arrays and the report as JSON.
+using Perforate = std::function<poreshell::Result(const poreshell::RunControl&)>;
+py::tuple run_and_collect(const Perforate& perforate, const py::object& progress, double max_seconds) {
   RunState state;
   state.progress = progress;
   poreshell::RunControl control;
@@ -422,7 +424,7 @@ py::tuple run(const InputBox& input, const py::dict& kwargs, const py::object& p
     py::gil_scoped_release release;
     std::thread worker([&] {
       try {
-        result = poreshell::perforate(input.input, options, control);
+        result = perforate(control);
       } catch (...) {
         failure = std::current_exception();
       }
@@ -466,14 +468,34 @@ py::tuple run(const InputBox& input, const py::dict& kwargs, const py::object& p
   return py::make_tuple(outputs, report);
 }
 
-// poreshell::estimate() as a dict, the GIL released while the input is placed (a large scan's tree).
-py::dict estimate(const InputBox& input, const py::dict& kwargs) {
-  const poreshell::Options options = to_options(kwargs, "estimate");
-  poreshell::Estimate e;
-  {
-    py::gil_scoped_release release;
-    e = poreshell::estimate(input.input, options);
-  }
+py::tuple run(const InputBox& input, const py::dict& kwargs, const py::object& progress, double max_seconds) {
+  const poreshell::Options options = to_options(kwargs);
+  return run_and_collect(
+      [&](const poreshell::RunControl& control) {
+        return poreshell::perforate(input.input, options, control);
+      },
+      progress, max_seconds);
+}
+
+// An input placed with its options once (poreshell::prepare), for estimate_prepared and run_prepared.
+// The input it points to is kept alive by the binding (py::keep_alive).
+struct PreparedBox {
+  poreshell::Prepared prepared;
+};
+
+PreparedBox prepare(const InputBox& input, const py::dict& kwargs) {
+  const poreshell::Options options = to_options(kwargs, "prepare");
+  py::gil_scoped_release release;
+  return PreparedBox{poreshell::prepare(input.input, options)};
+}
+
+py::tuple run_prepared(const PreparedBox& box, const py::object& progress, double max_seconds) {
+  return run_and_collect(
+      [&](const poreshell::RunControl& control) { return poreshell::perforate(box.prepared, control); },
+      progress, max_seconds);
+}
+
+py::dict estimate_dict(const poreshell::Estimate& e) {
   py::dict out;
   out["size_mm"] = py::make_tuple(e.size_mm[0], e.size_mm[1], e.size_mm[2]);
   out["grid"] = py::make_tuple(e.grid[0], e.grid[1], e.grid[2]);
@@ -487,6 +509,26 @@ py::dict estimate(const InputBox& input, const py::dict& kwargs) {
   out["ply_bytes"] = e.ply_bytes;
   out["warnings"] = e.warnings;
   return out;
+}
+
+// poreshell::estimate() as a dict, the GIL released while the input is placed (a large scan's tree).
+py::dict estimate(const InputBox& input, const py::dict& kwargs) {
+  const poreshell::Options options = to_options(kwargs, "estimate");
+  poreshell::Estimate e;
+  {
+    py::gil_scoped_release release;
+    e = poreshell::estimate(input.input, options);
+  }
+  return estimate_dict(e);
+}
+
+py::dict estimate_prepared(const PreparedBox& box) {
+  poreshell::Estimate e;
+  {
+    py::gil_scoped_release release;
+    e = poreshell::estimate(box.prepared);
+  }
+  return estimate_dict(e);
 }
 
 }  // namespace
@@ -504,6 +546,7 @@ PYBIND11_MODULE(_poreshell, m) {
   });
 
   py::class_<InputBox>(m, "Input", "An input of the library: a mesh, a point cloud or a shape.");
+  py::class_<PreparedBox>(m, "PreparedInput", "An input placed with its options (poreshell.prepare).");
 
   m.def(
       "mesh_input",
@@ -592,6 +635,10 @@ PYBIND11_MODULE(_poreshell, m) {
     return names;
   });
   m.def("estimate", &estimate, py::arg("input"), py::arg("options"));
+  m.def("prepare", &prepare, py::arg("input"), py::arg("options"), py::keep_alive<0, 1>());
+  m.def("estimate_prepared", &estimate_prepared, py::arg("prepared"));
+  m.def("perforate_prepared", &run_prepared, py::arg("prepared"), py::arg("progress"),
+        py::arg("max_seconds"));
   m.def("perforate", &run, py::arg("input"), py::arg("options"), py::arg("progress"), py::arg("max_seconds"));
   m.def("version", [] { return std::string(poreshell::version()); });
 }

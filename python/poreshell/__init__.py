@@ -7,7 +7,7 @@ unless a ``units`` argument says otherwise; results are always in millimetres.
     >>> r = poreshell.perforate(*poreshell.load_mesh("data/stanford-bunny.obj", units="m"), alpha=2200)
     >>> r.save("bunny.stl"); r.report["mesh"]["pores_from_euler"]
 
-Functions: perforate, estimate, load_mesh, load_points, sphere, torus, points, version.
+Functions: perforate, estimate, prepare, load_mesh, load_points, sphere, torus, points, version.
 Errors: ValueError for bad arguments (wrong shape, dtype, NaN, out-of-range option; the message names
 the option in backquotes, as in `hole_diameter`), RuntimeError for other failures. Both carry
 ``code`` (invalid_option, invalid_input, too_large, cancelled, io, internal) and ``option`` attributes
@@ -24,6 +24,8 @@ from . import _poreshell
 __all__ = [
     "perforate",
     "estimate",
+    "prepare",
+    "Prepared",
     "load_mesh",
     "load_points",
     "sphere",
@@ -436,6 +438,48 @@ def estimate(vertices, faces=None, *, units=None, vertex_fields=None, **options)
     Example: r = poreshell.estimate("scan.stl", hole_diameter=8, spacing=12); print(r["seconds"])
     """
     return _poreshell.estimate(_make_input(vertices, faces, units, vertex_fields), options)
+
+
+class Prepared:
+    """An input placed on its grid with its options, once: estimate() and perforate() start from it.
+
+    Made by poreshell.prepare(). Placing a large scan (its search structures) takes seconds; a caller
+    that estimates before it runs saves doing it twice. The answers are those of poreshell.estimate()
+    and poreshell.perforate() with the same input and options.
+    """
+
+    def __init__(self, prepared):
+        self._prepared = prepared
+
+    def estimate(self):
+        """poreshell.estimate()'s dict for the prepared input and options."""
+        return _poreshell.estimate_prepared(self._prepared)
+
+    def perforate(self, progress=None, max_seconds=0):
+        """poreshell.perforate() of the prepared input and options: a Result. `progress` and
+        `max_seconds` as there."""
+        if progress is not None and not callable(progress):
+            raise ValueError("`progress` must be a callable (stage, fraction) or None")
+        if not max_seconds >= 0:
+            raise ValueError("`max_seconds` must be a number of seconds >= 0 (0: no budget)")
+        return Result(*_poreshell.perforate_prepared(self._prepared, progress, float(max_seconds)))
+
+    def __repr__(self):
+        return "<poreshell.Prepared>"
+
+
+def prepare(vertices, faces=None, *, units=None, vertex_fields=None, **options):
+    """Checks the options and places the input once, for estimate() and perforate() after it.
+
+    Takes perforate()'s input and options (not `progress` or `max_seconds`, which its perforate()
+    takes) and returns a Prepared. Raises as perforate() does for bad input and options.
+
+    Example:
+        p = poreshell.prepare("scan.stl", hole_diameter=8, spacing=12)
+        if p.estimate()["seconds"] < 60:
+            p.perforate().save("part.3mf")
+    """
+    return Prepared(_poreshell.prepare(_make_input(vertices, faces, units, vertex_fields), options))
 
 
 def _make_input(first, faces, units, vertex_fields):

@@ -139,6 +139,33 @@ def test_estimate_before_the_run():
         poreshell.estimate(poreshell.sphere(20), progress=print)
 
 
+def test_prepare_once_then_estimate_and_run():
+    # A mesh given as arrays that go out of scope: the prepared input keeps what it points to.
+    def prepared():
+        v, f = poreshell.load_mesh(DATA / "stanford-bunny.obj", units="m")
+        return poreshell.prepare(v, f, hole_diameter=8, spacing=14, preview=True, seed=3)
+
+    p = prepared()
+    assert p.estimate() == poreshell.estimate(
+        *poreshell.load_mesh(DATA / "stanford-bunny.obj", units="m"), hole_diameter=8, spacing=14, preview=True, seed=3
+    )
+    stages = []
+    r = p.perforate(progress=lambda stage, fraction: stages.append(stage))
+    direct = poreshell.perforate(
+        *poreshell.load_mesh(DATA / "stanford-bunny.obj", units="m"), hole_diameter=8, spacing=14, preview=True, seed=3
+    )
+    assert np.array_equal(r.faces, direct.faces) and np.array_equal(r.vertices, direct.vertices)
+    assert np.array_equal(r.outputs[0].pattern, direct.outputs[0].pattern)
+    assert "band" in stages
+    assert len(p.perforate().holes) == len(r.holes)  # a Prepared runs more than once
+    with pytest.raises(TypeError, match="prepare.*progress"):
+        poreshell.prepare(poreshell.sphere(20), hole_diameter=6, progress=print)
+    with pytest.raises(ValueError, match="`hole_diameter`"):
+        poreshell.prepare(poreshell.sphere(20), hole_diameter=-1)
+    with pytest.raises(ValueError, match="max_seconds"):
+        p.perforate(max_seconds=-1)
+
+
 def test_preview_paints_the_input_mesh(tmp_path):
     r = poreshell.perforate(DATA / "stanford-bunny.obj", units="m", hole_diameter=8, spacing=14, preview=True)
     out = r.outputs[0]
