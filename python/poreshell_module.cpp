@@ -388,11 +388,10 @@ py::dict holes_dict(const std::vector<poreshell::Hole>& holes) {
   return out;
 }
 
-// Runs perforate() on a thread of its own while this (the calling, usually main) thread waits with the
-// GIL released, checking for signals every 50 ms: Ctrl-C sets the cancel flag, and the run stops within
-// about half a second. The progress callback takes the GIL from the run's threads.
-// perforate() or a prepared run, by `perforate`, on a thread of its own with the GIL released, the
-// progress callback and Ctrl-C served from here; the outputs as arrays and the report as JSON.
+// Runs `perforate` (perforate() of an input or of a prepared one) on a thread of its own while this
+// (the calling, usually main) thread waits with the GIL released, checking for signals every 50 ms:
+// Ctrl-C sets the cancel flag, and the run stops within about half a second. The progress callback
+// takes the GIL from the run's threads. Returns the outputs as arrays and the report as JSON.
 using Perforate = std::function<poreshell::Result(const poreshell::RunControl&)>;
 py::tuple run_and_collect(const Perforate& perforate, const py::object& progress, double max_seconds) {
   RunState state;
