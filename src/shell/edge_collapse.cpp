@@ -178,7 +178,7 @@ class Collapser {
   // longest side, each to its share of the collapses; the same slabs whatever the thread count, so
   // the same result.
   void run(std::size_t target, const StageProgress& progress) {
-    const std::size_t live = live_triangles();
+    const std::size_t live = dead_.size();  // run() is the collapser's one call: none is dead yet
     if (live <= target) return;
     LoopProgress loop(progress, (live - target) / 2);
     std::vector<char> candidate(points_.size(), 1);
@@ -238,7 +238,6 @@ class Collapser {
 
   struct NewTriangle {
     std::array<std::int32_t, 3> v;
-    int kept;  // the corner where v0 was
   };
 
   // What one sequence of collapses keeps for itself.
@@ -256,10 +255,6 @@ class Collapser {
     std::vector<std::tuple<double, std::int32_t, std::int32_t>> candidates;  // (error, v1, corner)
     std::vector<NewTriangle> ring;
   };
-
-  std::size_t live_triangles() const {
-    return static_cast<std::size_t>(std::count(dead_.begin(), dead_.end(), 0));
-  }
 
   // Slabs along the longest side, of equal vertex counts; a vertex with a neighbour in another slab
   // is owned by no part (-1). Returns each part's triangles (those whose first vertex it owns).
@@ -282,11 +277,13 @@ class Collapser {
           static_cast<std::int32_t>(i * static_cast<std::size_t>(parts) / order.size());
     std::vector<char> cut(points_.size(), 0);
     for (std::size_t f = 0; f < dead_.size(); ++f) {
-      const std::int32_t a = vertex(3 * f), b = vertex(3 * f + 1), c = vertex(3 * f + 2);
+      const std::int32_t a = corners_[3 * f].vertex, b = corners_[3 * f + 1].vertex,
+                         c = corners_[3 * f + 2].vertex;
       if (owner_[a] != owner_[b] || owner_[b] != owner_[c]) cut[a] = cut[b] = cut[c] = 1;
     }
     std::vector<std::size_t> share(static_cast<std::size_t>(parts), 0);
-    for (std::size_t f = 0; f < dead_.size(); ++f) ++share[static_cast<std::size_t>(owner_[vertex(3 * f)])];
+    for (std::size_t f = 0; f < dead_.size(); ++f)
+      ++share[static_cast<std::size_t>(owner_[corners_[3 * f].vertex])];
     for (std::size_t v = 0; v < cut.size(); ++v)
       if (cut[v]) owner_[v] = -1;
     return share;
@@ -333,7 +330,6 @@ class Collapser {
 
   bool owns(const Worker& w, std::int32_t v) const { return owner_[static_cast<std::size_t>(v)] == w.part; }
   std::int32_t vertex(std::int32_t c) const { return corners_[static_cast<std::size_t>(c)].vertex; }
-  std::int32_t vertex(std::size_t c) const { return corners_[c].vertex; }
   std::int32_t across(std::int32_t c) const { return corners_[static_cast<std::size_t>(c)].opposite; }
   const Vec3& point(std::int32_t v) const { return points_[static_cast<std::size_t>(v)]; }
 
@@ -430,7 +426,7 @@ class Collapser {
     w.ring.clear();
     for (const std::int32_t k : w.fan_check) {
       if (k / 3 == left || k / 3 == right) continue;  // removed by the collapse
-      NewTriangle t{{vertex(k), vertex(next_corner(k)), vertex(previous_corner(k))}, 0};
+      NewTriangle t{{vertex(k), vertex(next_corner(k)), vertex(previous_corner(k))}};
       t.v[0] = v1;
       const Vec3 &a = point(t.v[0]), &b = point(t.v[1]), &d = point(t.v[2]);
       if (min_angle_sine(a, b, d) < least) return false;
