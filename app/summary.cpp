@@ -93,7 +93,12 @@ void print_summary(const poreshell::Options& c, const poreshell::Report& r,
       "  pattern  {} spots at phi > 0, size CV {:.3f}, spacing {:.2f} h (CV {:.3f}), area fraction {:.3f}\n",
       r.pattern.spots, r.pattern.size_cv, r.pattern.spacing_mean_voxels, r.pattern.spacing_cv,
       r.pattern.area_fraction);
-  if (r.pattern.closed_small_holes > 0)
+  if (r.pattern.closed_small_holes > 0 && r.preview && r.solver.steps == 0)
+    fmt::print(
+        "  closed   {} discs under 0.915 of the asked diameter (shared with another sheet: the run closes "
+        "them)\n",
+        r.pattern.closed_small_holes);
+  else if (r.pattern.closed_small_holes > 0)
     fmt::print("  closed   {} holes under 0.7 of the asked diameter (pinholes next to solid zones)\n",
                r.pattern.closed_small_holes);
   fmt::print("  time     band {:.2f} s, solve {:.2f} s, mesh+write {:.2f} s, total {:.2f} s ({} threads)\n",

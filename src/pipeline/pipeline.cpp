@@ -37,6 +37,14 @@ constexpr double kLeastHoleShare = 0.7;
 // points (ratio under 0.92 only for spots over 5 mm; seeds 1-2, 6 mm holes at 10 mm). So a spot is
 // closed below 0.7 D / 0.92 by its area, for the mesh's loops to keep 0.7 D.
 constexpr double kBandToMeshDiameter = 0.92;
+// A preview that does not run the equation shows the even layout's discs as placed. One whose band area
+// is under this share of the asked diameter lies where another sheet within the band's reach (the
+// bunny's base: two faces a millimetre apart) takes part of its footprint, and the run closes it.
+// Preview discs against the full run's holes, same seed (docs/solver.md "Layout"): on the bunny, 8 mm
+// at 14 mm, seeds 1-5, 8 of the 10 discs the run closed were under 0.915 D (0.86-0.897), the least
+// kept 0.924; 6 mm at 10 mm, seeds 1-4, all 8 under it closed (0.822-0.911), the least kept 0.965; the
+// sphere's and the sleeve's discs are all 0.966 D or more, and kept.
+constexpr double kPreviewLeastHoleShare = 0.915;
 
 // The process's peak resident set so far (Linux reports kilobytes).
 std::size_t peak_rss_bytes() {
@@ -229,12 +237,14 @@ PipelineResult run_pipeline(const Input& input, const PreparedInput& prepared, R
   result.layout = solved.layout;
   result.layout_holes = solved.layout_holes;
   std::vector<double> phi = std::move(solved.phi);
-  // A preview closes them too: the run would, and a surface layer (band_options) shows slivers of a
-  // disc's edge where it is a voxel thin (the bunny at 8 mm / 14 mm: one, 0.09 mm).
-  if (result.plan)
-    result.closed_small_holes = close_small_spots(
-        band, phi, result.plan->level,
-        kLeastHoleShare / kBandToMeshDiameter * result.plan->diameter / placed.mm_per_grid());
+  // A preview closes these too, and the discs the run would close (kPreviewLeastHoleShare); a surface
+  // layer (band_options) also shows slivers of a disc's edge where it is a voxel thin.
+  if (result.plan) {
+    const bool unevolved = options.preview && result.run.steps == 0;  // the even layout's discs as placed
+    const double share = unevolved ? kPreviewLeastHoleShare : kLeastHoleShare / kBandToMeshDiameter;
+    result.closed_small_holes = close_small_spots(band, phi, result.plan->level,
+                                                  share * result.plan->diameter / placed.mm_per_grid());
+  }
   result.spots = spot_statistics(band, phi, 0.0);
   if (options.preview) {
     preview_output(options.iso.front(), options, placed, band, phi, solved.zone_weight, result, monitor);
