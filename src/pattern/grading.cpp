@@ -129,8 +129,15 @@ std::function<double(const Vec3&)> graded_diameter(const GradeSpec& spec, const 
   return [base](const Vec3&) { return base; };
 }
 
+LevelForRatio disc_levels(const PatternPlan& plan) {
+  // The contour at r = d / 2 of tanh((R - r) / (sqrt 2 eps)), R putting the plan's level at D / 2.
+  const double at_plan = std::atanh(plan.level), width = 2.0 * std::sqrt(2.0) * plan.epsilon;
+  return [=](double ratio) { return std::tanh(at_plan + (plan.diameter - ratio * plan.spacing) / width); };
+}
+
 GradingSummary apply_grading(std::span<double> phi, std::span<const Vec3> positions_mm, double spacing,
-                             double level, const std::function<double(const Vec3&)>& diameter_at) {
+                             double level, const std::function<double(const Vec3&)>& diameter_at,
+                             const LevelForRatio& level_for_ratio) {
   GradingSummary s;
   s.clamped_min = min_diameter_ratio() * spacing;
   s.clamped_max = max_diameter_ratio() * spacing;
@@ -148,7 +155,7 @@ GradingSummary apply_grading(std::span<double> phi, std::span<const Vec3> positi
     const double wanted = d / spacing;
     const double ratio = std::clamp(wanted, min_diameter_ratio(), max_diameter_ratio());
     if (ratio != wanted) ++clamped;
-    phi[v] += level - level_for_diameter_ratio(ratio);
+    phi[v] += level - level_for_ratio(ratio);
   }
   s.clamped_fraction = phi.empty() ? 0.0 : static_cast<double>(clamped) / static_cast<double>(phi.size());
   return s;
@@ -188,7 +195,7 @@ Grade parse_grade(const std::string& text) {
 
 GradingSummary grade_holes(const GradeSpec& grade, const std::function<double(const Vec3&)>& field,
                            const PlacedSurface& placed, const NarrowBand& band, const PatternPlan& plan,
-                           std::vector<double>& phi) {
+                           std::vector<double>& phi, const LevelForRatio& level_for_ratio) {
   Box bounds{Vec3::Constant(std::numeric_limits<double>::infinity()),
              Vec3::Constant(-std::numeric_limits<double>::infinity())};
   std::vector<Vec3> positions(band.size());
@@ -198,7 +205,7 @@ GradingSummary grade_holes(const GradeSpec& grade, const std::function<double(co
     bounds.max = bounds.max.cwiseMax(positions[v]);
   }
   const auto diameter_at = graded_diameter(grade, bounds, plan.diameter, field);
-  return apply_grading(phi, positions, plan.spacing, plan.level, diameter_at);
+  return apply_grading(phi, positions, plan.spacing, plan.level, diameter_at, level_for_ratio);
 }
 
 }  // namespace poreshell

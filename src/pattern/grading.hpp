@@ -52,13 +52,22 @@ struct GradingSummary {
 // Shifts phi by (level - level(x)) so that {phi > level} has, near each voxel, the holes asked for
 // there; diameters outside [min, max] ratio times the spacing are clamped (no hole swallows its
 // neighbours, none closes up).
+// The pore level at which holes are `ratio` times the spacing across.
+using LevelForRatio = std::function<double(double ratio)>;
+// That level for the even layout's discs as placed, tanh((R - r) / (sqrt 2 eps)) with the plan's level
+// at r = D / 2: what a preview that does not run the equation shows. The equation's pores follow the
+// hole map's calibration instead, level_for_diameter_ratio.
+LevelForRatio disc_levels(const PatternPlan& plan);
+
 GradingSummary apply_grading(std::span<double> phi, std::span<const Vec3> positions_mm, double spacing,
-                             double level, const std::function<double(const Vec3&)>& diameter_at);
+                             double level, const std::function<double(const Vec3&)>& diameter_at,
+                             const LevelForRatio& level_for_ratio = level_for_diameter_ratio);
 
 // Grades the pattern on the band: phi shifted per voxel so that {phi > plan.level} has the graded holes.
 // `field` evaluates the named vertex field at a point in mm (field specs only).
 GradingSummary grade_holes(const GradeSpec& grade, const std::function<double(const Vec3&)>& field,
                            const PlacedSurface& placed, const NarrowBand& band, const PatternPlan& plan,
-                           std::vector<double>& phi);
+                           std::vector<double>& phi,
+                           const LevelForRatio& level_for_ratio = level_for_diameter_ratio);
 
 }  // namespace poreshell

@@ -239,13 +239,19 @@ PipelineResult run_pipeline(const Input& input, const PreparedInput& prepared, R
   std::vector<double> phi = std::move(solved.phi);
   // A preview closes these too, and the discs the run would close (kPreviewLeastHoleShare); a surface
   // layer (band_options) also shows slivers of a disc's edge where it is a voxel thin.
+  const bool unevolved = options.preview && result.run.steps == 0;  // the even layout's discs as placed
   if (result.plan) {
-    const bool unevolved = options.preview && result.run.steps == 0;  // the even layout's discs as placed
     const double share = unevolved ? kPreviewLeastHoleShare : kLeastHoleShare / kBandToMeshDiameter;
     result.closed_small_holes = close_small_spots(band, phi, result.plan->level,
                                                   share * result.plan->diameter / placed.mm_per_grid());
   }
   result.spots = spot_statistics(band, phi, 0.0);
+  // Before a preview's output too, so that it shows the sizes asked where they are asked: on the layout's
+  // discs as placed, whose profile is not the equation's pores'.
+  if (grade)
+    result.grading =
+        grade_holes(*grade, grade_field, placed, band, *result.plan, phi,
+                    unevolved ? disc_levels(*result.plan) : LevelForRatio(level_for_diameter_ratio));
   if (options.preview) {
     preview_output(options.iso.front(), options, placed, band, phi, solved.zone_weight, result, monitor);
     result.seconds_total = seconds_since(start);
@@ -257,7 +263,6 @@ PipelineResult run_pipeline(const Input& input, const PreparedInput& prepared, R
   // Build and check every mesh before handing any out.
   monitor.stage("shell");
   t = std::chrono::steady_clock::now();
-  if (grade) result.grading = grade_holes(*grade, grade_field, placed, band, *result.plan, phi);
   SideTest side;
   const bool shell_mode = options.mode == Mode::shell;
   std::optional<ShellSamples> shell;  // freed once the last level is meshed

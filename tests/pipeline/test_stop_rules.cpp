@@ -173,3 +173,42 @@ TEST(StopRules, PreviewClosesTheDiscsTheRunClosesOnTheBunnysBase) {
     astray += largest_nearest_distance(std::span<const Vec3>(&x, 1), theirs) > 0.15 * full.spacing ? 1 : 0;
   EXPECT_LE(astray, 1u) << "preview holes the run does not make";
 }
+
+namespace {
+
+// Least-squares slope of the holes' diameters against their centres' height.
+double diameter_slope_along_z(const HoleStats& s) {
+  double mz = 0.0, md = 0.0;
+  for (const BandHole& h : s.holes) {
+    mz += h.centre.z() / static_cast<double>(s.holes.size());
+    md += h.diameter / static_cast<double>(s.holes.size());
+  }
+  double zz = 0.0, zd = 0.0;
+  for (const BandHole& h : s.holes) {
+    zz += (h.centre.z() - mz) * (h.centre.z() - mz);
+    zd += (h.centre.z() - mz) * (h.diameter - md);
+  }
+  return zd / zz;
+}
+
+}  // namespace
+
+// A graded preview shows the graded sizes: its discs, as placed, are shifted by their own profile's
+// levels (disc_levels), not by the equation's pores' calibration, which gave them 0.58 of the run's
+// slope (4.9 -> 6.9 mm against 4.3 -> 7.7 mm from bottom to top; before that, no grading at all).
+TEST(StopRules, GradedPreviewShowsTheRunsHoleSizes) {
+  Options full = small_sphere_holes();
+  full.grade = parse_grade("axis:z:4:8");
+  Options preview = full;
+  preview.preview = true;
+  const PipelineResult f = run_pipeline(sphere(25.0), full, unmonitored());
+  const PipelineResult p = run_pipeline(sphere(25.0), preview, unmonitored());
+  const HoleStats& hf = f.meshes.at(0).holes;
+  const HoleStats& hp = p.meshes.at(0).holes;
+  ASSERT_GT(hp.holes.size(), 50u);
+  ASSERT_TRUE(p.grading.has_value());
+  const double run_slope = diameter_slope_along_z(hf), preview_slope = diameter_slope_along_z(hp);
+  EXPECT_GT(run_slope, 0.05);  // mm of diameter per mm of height: 4 mm over about 55 mm
+  EXPECT_NEAR(preview_slope, run_slope, 0.1 * run_slope);
+  EXPECT_NEAR(hp.diameter_mean, hf.diameter_mean, 0.03 * hf.diameter_mean);
+}
