@@ -145,7 +145,7 @@ struct Report {
     std::int64_t spots = 0;
     // Spots squeezed next to a solid zone (pinholes) made solid: narrower than 0.76 of the asked diameter
     // by their band area, so that no written hole is under 0.7 (docs/printing.md "Pinholes closed"). A
-    // preview's discs under 0.915, which the run closes (docs/solver.md "Preview").
+    // preview's discs under 0.915, which the run closes (docs/solver.md "Layout").
     std::int64_t closed_small_holes = 0;
     double size_cv = 0.0, mean_size_voxels = 0.0, area_fraction = 0.0, spacing_mean_voxels = 0.0,
            spacing_cv = 0.0;

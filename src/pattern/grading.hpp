@@ -49,9 +49,6 @@ struct GradingSummary {
   double clamped_min = 0.0, clamped_max = 0.0;  // the printable range at this spacing, mm
 };
 
-// Shifts phi by (level - level(x)) so that {phi > level} has, near each voxel, the holes asked for
-// there; diameters outside [min, max] ratio times the spacing are clamped (no hole swallows its
-// neighbours, none closes up).
 // The pore level at which holes are `ratio` times the spacing across.
 using LevelForRatio = std::function<double(double ratio)>;
 // That level for the even layout's discs as placed, tanh((R - r) / (sqrt 2 eps)) with the plan's level
@@ -59,6 +56,9 @@ using LevelForRatio = std::function<double(double ratio)>;
 // hole map's calibration instead, level_for_diameter_ratio.
 LevelForRatio disc_levels(const PatternPlan& plan);
 
+// Shifts phi by (level - level(x)) so that {phi > level} has, near each voxel, the holes asked for
+// there; diameters outside [min, max] ratio times the spacing are clamped (no hole swallows its
+// neighbours, none closes up).
 GradingSummary apply_grading(std::span<double> phi, std::span<const Vec3> positions_mm, double spacing,
                              double level, const std::function<double(const Vec3&)>& diameter_at,
                              const LevelForRatio& level_for_ratio = level_for_diameter_ratio);
