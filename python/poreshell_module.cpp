@@ -360,13 +360,14 @@ struct RunState {
 py::dict holes_dict(const std::vector<poreshell::Hole>& holes) {
   const auto n = static_cast<py::ssize_t>(holes.size());
   py::array_t<double> centre({n, py::ssize_t{3}}), normal({n, py::ssize_t{3}});
-  py::array_t<double> diameter(n), circularity(n), nearest(n), axis_ratio(n);
+  py::array_t<double> diameter(n), circularity(n), nearest(n), axis_ratio(n), asked(n);
   auto c = centre.mutable_unchecked<2>();
   auto nm = normal.mutable_unchecked<2>();
   auto d = diameter.mutable_unchecked<1>();
   auto ci = circularity.mutable_unchecked<1>();
   auto ne = nearest.mutable_unchecked<1>();
   auto ar = axis_ratio.mutable_unchecked<1>();
+  auto as = asked.mutable_unchecked<1>();
   for (py::ssize_t i = 0; i < n; ++i) {
     const poreshell::Hole& h = holes[static_cast<std::size_t>(i)];
     for (py::ssize_t k = 0; k < 3; ++k) {
@@ -377,6 +378,7 @@ py::dict holes_dict(const std::vector<poreshell::Hole>& holes) {
     ci(i) = h.circularity;
     ne(i) = h.nearest;
     ar(i) = h.axis_ratio;
+    as(i) = h.asked_diameter;
   }
   py::dict out;
   out["centre"] = centre;
@@ -385,6 +387,7 @@ py::dict holes_dict(const std::vector<poreshell::Hole>& holes) {
   out["circularity"] = circularity;
   out["nearest"] = nearest;
   out["axis_ratio"] = axis_ratio;
+  out["asked_diameter"] = asked;
   return out;
 }
 

@@ -16,7 +16,8 @@
   const report = data.report || {};
   const meshReport = report.mesh || {};
 
-  const HOLE_STRIDE = 10;  // centre x y z, normal x y z, diameter, circularity, nearest neighbour, axis ratio
+  // centre x y z, normal x y z, diameter, circularity, nearest neighbour, axis ratio, asked diameter
+  const HOLE_STRIDE = 11;
   const holeValues = data.holes.count > 0 ? floats(data.holes.data) : new Float32Array(0);
   const holes = [];
   for (let i = 0; i < data.holes.count; ++i) {
@@ -25,7 +26,7 @@
     if (normal.lengthSq() > 0) normal.normalize();
     holes.push({
       index: i, centre: new THREE.Vector3(v[0], v[1], v[2]), normal: normal,
-      diameter: v[6], circularity: v[7], nearest: v[8], axisRatio: v[9],
+      diameter: v[6], circularity: v[7], nearest: v[8], axisRatio: v[9], asked: v[10],
     });
   }
 
@@ -56,8 +57,12 @@
   };
   const requested = (report.holes && report.holes.requested) || {};
   const requestedDiameter = finite(data.requested_diameter_mm) ? data.requested_diameter_mm : requested.diameter_mm;
-  // Holes are coloured by their deviation from the request, or from their mean without one.
+  // Holes are coloured by their deviation from the diameter asked at each (graded or not), or from their
+  // mean where none was asked.
   const reference = finite(requestedDiameter) ? requestedDiameter : (figures.diameterMean || 1);
+  const askedOf = (h) => (h.asked > 0 ? h.asked : reference);
+  const graded = holes.some((h) => h.asked > 0 && Math.abs(h.asked - reference) > 1e-3 * reference);
+  const deviation = (h) => h.diameter / askedOf(h) - 1;
   const SPAN = 0.25;  // the colour scale's ends: ±25 %
 
   function row(list, label, value, sub) {
@@ -82,6 +87,12 @@
     if (finite(requestedDiameter)) row(req, 'Hole diameter', mm(requestedDiameter));
     if (finite(requested.spacing_mm)) row(req, 'Spacing', mm(requested.spacing_mm));
     if (finite(requested.porosity) && requested.porosity > 0) row(req, 'Porosity', pct(requested.porosity));
+    // Graded: the sizes asked over the surface, as clamped to what prints.
+    const grading = (report.holes || {}).grading;
+    const grade = (report.settings || {}).grade;
+    if (grading && grade)
+      row(req, 'Graded (' + grade.kind + ')', fmt(grading.min_diameter_mm, 2) + '–' + mm(grading.max_diameter_mm),
+          grading.clamped_fraction > 0 ? pct(grading.clamped_fraction) + ' clamped' : undefined);
     // A preview makes no wall: the request shows one only where it was asked for.
     const preview = report.preview === true;
     const wallAsked = !preview || (finite((report.settings || {}).wall) && report.settings.wall > 0);
@@ -135,8 +146,8 @@
   const COLD = new THREE.Color('#3b6fd4'), GOOD = new THREE.Color('#2fa37a'), HOT = new THREE.Color('#e0523a');
   const BASE = new THREE.Color('#d8d2c8');
   const OPEN = new THREE.Color('#3a3f47');  // a preview's open vertices away from every hole record
-  function deviationColour(diameter) {
-    const t = Math.max(-1, Math.min(1, (diameter / reference - 1) / SPAN));
+  function deviationColour(relative) {
+    const t = Math.max(-1, Math.min(1, relative / SPAN));
     return t < 0 ? GOOD.clone().lerp(COLD, -t) : GOOD.clone().lerp(HOT, t);
   }
   const cssColour = (c) => '#' + c.getHexString();
@@ -144,11 +155,12 @@
   function drawLegend() {
     document.querySelector('#legend .bar').style.background =
         'linear-gradient(to right, ' + cssColour(COLD) + ', ' + cssColour(GOOD) + ', ' + cssColour(HOT) + ')';
-    document.getElementById('legend-lo').textContent = fmt(reference * (1 - SPAN), 2) + ' (−25 %)';
-    document.getElementById('legend-mid').textContent = fmt(reference, 2);
-    document.getElementById('legend-hi').textContent = fmt(reference * (1 + SPAN), 2) + ' (+25 %)';
-    document.getElementById('legend-caption').textContent =
-        'hole colour: diameter (mm) against the ' + (finite(requestedDiameter) ? 'request' : 'mean');
+    document.getElementById('legend-lo').textContent = graded ? '−25 %' : fmt(reference * (1 - SPAN), 2) + ' (−25 %)';
+    document.getElementById('legend-mid').textContent = graded ? 'as asked' : fmt(reference, 2);
+    document.getElementById('legend-hi').textContent = graded ? '+25 %' : fmt(reference * (1 + SPAN), 2) + ' (+25 %)';
+    document.getElementById('legend-caption').textContent = graded
+        ? 'hole colour: diameter against the graded size asked at each hole'
+        : 'hole colour: diameter (mm) against the ' + (finite(requestedDiameter) ? 'request' : 'mean');
   }
 
   function drawHistogram() {
@@ -165,13 +177,18 @@
     let lo = Math.min(reference * (1 - SPAN), ...diameters), hi = Math.max(reference * (1 + SPAN), ...diameters);
     const bins = Math.max(8, Math.min(40, Math.round(Math.sqrt(diameters.length) * 2)));
     const width = (hi - lo) / bins;
-    const counts = new Array(bins).fill(0);
-    for (const d of diameters) counts[Math.min(bins - 1, Math.floor((d - lo) / width))]++;
+    const counts = new Array(bins).fill(0), deviations = new Array(bins).fill(0);
+    for (const h of holes) {
+      const bin = Math.min(bins - 1, Math.floor((h.diameter - lo) / width));
+      counts[bin]++;
+      deviations[bin] += deviation(h);
+    }
     const maxCount = Math.max(...counts);
     const x = (d) => left + ((d - lo) / (hi - lo)) * (W - left - right);
     const y = (c) => H - bottom - (c / maxCount) * (H - bottom - top);
     for (let i = 0; i < bins; ++i) {
-      ctx.fillStyle = cssColour(deviationColour(lo + (i + 0.5) * width));
+      // A bin's colour is its holes' mean deviation from what each was asked (graded sizes differ).
+      ctx.fillStyle = cssColour(deviationColour(counts[i] ? deviations[i] / counts[i] : 0));
       ctx.fillRect(x(lo + i * width) + 1, y(counts[i]), x(lo + (i + 1) * width) - x(lo + i * width) - 2, H - bottom - y(counts[i]));
     }
     ctx.strokeStyle = '#3a4250';
@@ -189,8 +206,8 @@
     ctx.textAlign = 'right';
     ctx.fillText(String(maxCount), left - 6, top + 14);
     ctx.fillText('0', left - 6, H - bottom);
-    // The request: a dashed line.
-    if (finite(requestedDiameter)) {
+    // The request, where one size was asked: a dashed line.
+    if (finite(requestedDiameter) && !graded) {
       ctx.strokeStyle = '#dfe4ea';
       ctx.setLineDash([6, 5]);
       ctx.beginPath();
@@ -244,7 +261,7 @@
         if (!grid.has(k)) grid.set(k, []);
         grid.get(k).push(n);
       });
-      const holeColours = holes.map((h) => deviationColour(h.diameter));
+      const holeColours = holes.map((h) => deviationColour(deviation(h)));
       for (let v = 0; v < positions.length; v += 3) {
         const px = positions[v], py = positions[v + 1], pz = positions[v + 2];
         const ci = Math.floor(px / cell), cj = Math.floor(py / cell), ck = Math.floor(pz / cell);
@@ -400,13 +417,14 @@
 
   const selection = document.getElementById('selection');
   function showHole(h) {
-    const dev = h.diameter / reference - 1;
-    const swatch = '<span class="swatch" style="background:' + cssColour(deviationColour(h.diameter)) + '"></span>';
+    const dev = deviation(h);
+    const swatch = '<span class="swatch" style="background:' + cssColour(deviationColour(dev)) + '"></span>';
     selection.className = 'hole';
     selection.innerHTML = '<h3>' + swatch + 'Hole ' + (h.index + 1) + ' of ' + holes.length + '</h3><dl></dl>';
     const list = selection.querySelector('dl');
     row(list, 'Diameter', mm(h.diameter)).id = 'sel-diameter';
-    row(list, finite(requestedDiameter) ? 'vs request' : 'vs mean', (dev >= 0 ? '+' : '') + pct(dev));
+    if (h.asked > 0) row(list, 'Asked', mm(h.asked)).id = 'sel-asked';
+    row(list, h.asked > 0 || finite(requestedDiameter) ? 'vs asked' : 'vs mean', (dev >= 0 ? '+' : '') + pct(dev));
     if (h.circularity > 0) {  // a preview's holes are the band's spots: no loop measured
       row(list, 'Circularity', fmt(h.circularity, 3));
       row(list, 'Axis ratio', fmt(h.axisRatio, 3));

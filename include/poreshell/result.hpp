@@ -23,6 +23,9 @@ struct Hole {
   double circularity = 0.0;  // 4 pi A / P^2 (1 for a circle)
   double nearest = 0.0;      // mm, to the nearest other hole's centre (0 when alone)
   double axis_ratio = 0.0;   // minor over major axis of the cross-section (b / a for an ellipse; 1 round)
+  // mm, the diameter asked for at its centre: the request, or the grading's there (as clamped); 0 where
+  // no hole size was asked (the paper's parameters).
+  double asked_diameter = 0.0;
 };
 
 struct TopologyReport {

@@ -55,6 +55,7 @@ HOLE_DTYPE = np.dtype(
         ("circularity", np.float64),  # 4 pi A / P^2 (1 for a circle)
         ("nearest", np.float64),  # mm, to the nearest other hole's centre (0 when alone)
         ("axis_ratio", np.float64),  # minor over major axis of the cross-section (1 round)
+        ("asked_diameter", np.float64),  # mm asked at its centre (graded where asked; 0: none asked)
     ]
 )
 

@@ -111,12 +111,12 @@ void save_holes_csv(const std::filesystem::path& path, std::span<const Hole> hol
   write_atomically(
       path,
       [&](std::ostream& out) {
-        out << "x_mm,y_mm,z_mm,nx,ny,nz,diameter_mm,circularity,nearest_mm,axis_ratio\n"
+        out << "x_mm,y_mm,z_mm,nx,ny,nz,diameter_mm,circularity,nearest_mm,axis_ratio,asked_mm\n"
             << std::setprecision(9);
         for (const Hole& h : holes)
           out << h.centre[0] << ',' << h.centre[1] << ',' << h.centre[2] << ',' << h.normal[0] << ','
               << h.normal[1] << ',' << h.normal[2] << ',' << h.diameter << ',' << h.circularity << ','
-              << h.nearest << ',' << h.axis_ratio << '\n';
+              << h.nearest << ',' << h.axis_ratio << ',' << h.asked_diameter << '\n';
       },
       false);
 }

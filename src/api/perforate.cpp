@@ -62,6 +62,12 @@ Result run_and_convert(const Input& input, const Options& options, const Prepare
       run = run_pipeline(input, prepare_input(input, options), monitor);
     }
     result.report = make_report(run, options);
+    // Each hole's asked diameter at its centre: the grading's, or the request's.
+    const auto asked_at = [&](const Vec3& x) {
+      return run.grading && run.grading->asked_diameter ? run.grading->asked_diameter(x)
+             : run.plan                                 ? run.plan->diameter
+                                                        : 0.0;
+    };
     for (MeshOutput& level : run.meshes) {
       Output out;
       out.iso = level.iso;
@@ -76,14 +82,16 @@ Result run_and_convert(const Input& input, const Options& options, const Prepare
                                h.diameter,
                                0.0,
                                h.nearest,
-                               0.0});
+                               0.0,
+                               asked_at(h.centre)});
       for (const HoleRecord& h : level.hole_table.holes)
         out.holes.push_back({{h.centre.x(), h.centre.y(), h.centre.z()},
                              {h.normal.x(), h.normal.y(), h.normal.z()},
                              h.diameter,
                              h.circularity,
                              h.nearest,
-                             h.axis_ratio});
+                             h.axis_ratio,
+                             asked_at(h.centre)});
       result.outputs.push_back(std::move(out));
     }
   });

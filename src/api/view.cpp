@@ -72,7 +72,8 @@ void save_html(const std::filesystem::path& path, const Result& result, const Op
   if (!out.pattern.empty())
     data.pattern = display_pattern(out.pattern, shown_as, data.mesh.vertices.size(), out.iso);
   for (const Hole& h : out.holes)
-    data.holes.push_back({vec(h.centre), vec(h.normal), h.diameter, h.circularity, h.nearest, h.axis_ratio});
+    data.holes.push_back(
+        {vec(h.centre), vec(h.normal), h.diameter, h.circularity, h.nearest, h.axis_ratio, h.asked_diameter});
   if (result.report.plan) data.requested_diameter_mm = result.report.plan->diameter;
   data.rim_width_mm = options.rim;
   if (options.rim > 0.0) data.rim_loops = boundary_lines(input);

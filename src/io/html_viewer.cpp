@@ -103,7 +103,7 @@ nlohmann::json page_data(const ViewerData& data) {
   std::string pattern;
   pattern.reserve(4 * data.pattern.size());
   for (const float p : data.pattern) append_f32(pattern, p);
-  // Ten floats a hole, in the order viewer.js reads them.
+  // Eleven floats a hole, in the order viewer.js reads them.
   for (const ViewerHole& h : data.holes) {
     append_f32(holes, h.centre);
     append_f32(holes, h.normal);
@@ -111,6 +111,7 @@ nlohmann::json page_data(const ViewerData& data) {
     append_f32(holes, h.circularity);
     append_f32(holes, h.nearest_neighbour_mm);
     append_f32(holes, h.axis_ratio);
+    append_f32(holes, h.asked_mm);
   }
   json spheres = json::array(), boxes = json::array(), rims = json::array();
   for (const ViewerSphere& s : data.keep_out_spheres)

@@ -28,6 +28,7 @@ struct ViewerHole {
   double circularity = 1.0;           // 1 for a round hole
   double nearest_neighbour_mm = 0.0;  // centre to the nearest other hole's centre
   double axis_ratio = 1.0;            // minor over major axis of its cross-section
+  double asked_mm = 0.0;              // the diameter asked at its centre (graded); 0: none asked
 };
 
 struct ViewerSphere {

@@ -132,7 +132,8 @@ json to_json(std::span<const Hole> holes) {
                      {"diameter", h.diameter},
                      {"circularity", h.circularity},
                      {"axis_ratio", h.axis_ratio},
-                     {"nearest", h.nearest}});
+                     {"nearest", h.nearest},
+                     {"asked_diameter", h.asked_diameter}});
   return table;
 }
 

@@ -205,7 +205,11 @@ GradingSummary grade_holes(const GradeSpec& grade, const std::function<double(co
     bounds.max = bounds.max.cwiseMax(positions[v]);
   }
   const auto diameter_at = graded_diameter(grade, bounds, plan.diameter, field);
-  return apply_grading(phi, positions, plan.spacing, plan.level, diameter_at, level_for_ratio);
+  GradingSummary s = apply_grading(phi, positions, plan.spacing, plan.level, diameter_at, level_for_ratio);
+  s.asked_diameter = [diameter_at, lo = s.clamped_min, hi = s.clamped_max](const Vec3& x) {
+    return std::clamp(diameter_at(x), lo, hi);
+  };
+  return s;
 }
 
 }  // namespace poreshell

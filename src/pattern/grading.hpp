@@ -47,6 +47,8 @@ struct GradingSummary {
   double min_diameter = 0.0, max_diameter = 0.0;  // requested over the band, mm
   double clamped_fraction = 0.0;                // share of band voxels whose request left the printable range
   double clamped_min = 0.0, clamped_max = 0.0;  // the printable range at this spacing, mm
+  // The diameter asked at a point (mm, the band's frame in mm), clamped as it was applied.
+  std::function<double(const Vec3&)> asked_diameter;
 };
 
 // The pore level at which holes are `ratio` times the spacing across.

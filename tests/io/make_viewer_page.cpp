@@ -19,7 +19,8 @@ int main(int argc, char** argv) {
   for (const poreshell::ViewerHole& h : data.holes)
     holes.push_back({{"centre", {h.centre.x(), h.centre.y(), h.centre.z()}},
                      {"normal", {h.normal.x(), h.normal.y(), h.normal.z()}},
-                     {"diameter_mm", h.diameter_mm}});
+                     {"diameter_mm", h.diameter_mm},
+                     {"asked_mm", h.asked_mm}});
   // A point on the sphere (centre (10, -5, 20), radius 40) away from every hole, for the surface click.
   std::ofstream(argv[2]) << nlohmann::json{{"preview", preview},
                                            {"hole_count", data.holes.size()},

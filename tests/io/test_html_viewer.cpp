@@ -105,13 +105,16 @@ TEST(HtmlViewer, DataDecodesToTheMeshAndHoles) {
   }
   EXPECT_EQ(json["holes"]["count"], data.holes.size());
   const std::string holes = decode_base64(json["holes"]["data"]);
-  ASSERT_EQ(holes.size(), 40 * data.holes.size());
+  ASSERT_EQ(holes.size(), 44 * data.holes.size());
   float diameter = 0;
-  std::memcpy(&diameter, holes.data() + 40 * 5 + 24, 4);
+  std::memcpy(&diameter, holes.data() + 44 * 5 + 24, 4);
   EXPECT_NEAR(diameter, data.holes[5].diameter_mm, 1e-5);
   float axis_ratio = 0;
-  std::memcpy(&axis_ratio, holes.data() + 40 * 5 + 36, 4);  // the tenth float, last
+  std::memcpy(&axis_ratio, holes.data() + 44 * 5 + 36, 4);  // the tenth float
   EXPECT_NEAR(axis_ratio, data.holes[5].axis_ratio, 1e-6);
+  float asked = 0;
+  std::memcpy(&asked, holes.data() + 44 * 5 + 40, 4);  // the eleventh, last
+  EXPECT_NEAR(asked, data.holes[5].asked_mm, 1e-6);
   EXPECT_EQ(json["requested_diameter_mm"], 6.0);
   EXPECT_EQ(json["keep_out_spheres"].size(), 1u);
   EXPECT_EQ(json["keep_out_boxes"][0].size(), 6u);

@@ -27,6 +27,7 @@ inline ViewerData viewer_test_data(int holes = 40, bool preview = false) {
     h.diameter_mm = 6.0 * (1.0 + 0.2 * std::sin(1.7 * i));
     h.circularity = preview ? 0.0 : 0.9 + 0.1 * std::cos(i);
     h.axis_ratio = preview ? 0.0 : 0.8 + 0.2 * std::sin(0.3 * i);
+    h.asked_mm = 5.0 + 0.05 * i;  // graded: each hole's own
     data.holes.push_back(h);
   }
   for (ViewerHole& h : data.holes) {

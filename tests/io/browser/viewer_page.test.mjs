@@ -103,6 +103,8 @@ try {
         const diameter = expected.holes[best.i].diameter_mm.toFixed(2) + ' mm';
         expect(shown.hole === String(best.i), `clicked hole ${best.i}, the panel shows hole ${shown.hole}`);
         expect(shown.text.includes(diameter), `the panel does not show ${diameter}: ${shown.text}`);
+        const asked = 'Asked' + expected.holes[best.i].asked_mm.toFixed(2) + ' mm';
+        expect(shown.text.includes(asked), `the panel does not show the hole's asked size, ${asked}: ${shown.text}`);
       }
     } else if (check === 'click_surface') {
       // A point on the sphere facing the camera, halfway between the two holes nearest the view's centre.
