@@ -94,10 +94,8 @@ void print_summary(const poreshell::Options& c, const poreshell::Report& r,
       r.pattern.spots, r.pattern.size_cv, r.pattern.spacing_mean_voxels, r.pattern.spacing_cv,
       r.pattern.area_fraction);
   if (r.pattern.closed_small_holes > 0 && r.preview && r.solver.steps == 0)
-    fmt::print(
-        "  closed   {} discs under 0.915 of the asked diameter (shared with another sheet: the run closes "
-        "them)\n",
-        r.pattern.closed_small_holes);
+    fmt::print("  closed   {} discs under 0.915 of the asked diameter (the run would close them)\n",
+               r.pattern.closed_small_holes);
   else if (r.pattern.closed_small_holes > 0)
     fmt::print("  closed   {} holes under 0.7 of the asked diameter (pinholes next to solid zones)\n",
                r.pattern.closed_small_holes);
