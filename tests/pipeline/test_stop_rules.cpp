@@ -10,6 +10,7 @@
 #include <cmath>
 #include <numbers>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "geometry/mesh.hpp"
@@ -34,6 +35,13 @@ Options small_sphere_holes() {
   o.spacing = 10.0;
   o.seed = 3;
   return o;
+}
+
+// The full run of a request and its preview.
+std::pair<PipelineResult, PipelineResult> run_and_preview(const Input& input, const Options& full) {
+  Options preview = full;
+  preview.preview = true;
+  return {run_pipeline(input, full, unmonitored()), run_pipeline(input, preview, unmonitored())};
 }
 
 }  // namespace
@@ -76,10 +84,7 @@ TEST(StopRules, HolesRuleGivesThePaperRulesHolesOnASmallSphere) {
 TEST(StopRules, PreviewHolesAreTheFullRunsHoles) {
   Options full = small_sphere_holes();
   full.stop = StopRule::paper;
-  Options preview = small_sphere_holes();
-  preview.preview = true;
-  const PipelineResult f = run_pipeline(sphere(25.0), full, unmonitored());
-  const PipelineResult p = run_pipeline(sphere(25.0), preview, unmonitored());
+  const auto [f, p] = run_and_preview(sphere(25.0), full);
   const HoleStats& hf = f.meshes.at(0).holes;
   const HoleStats& hp = p.meshes.at(0).holes;
   ASSERT_GT(hf.holes.size(), 50u);
@@ -157,10 +162,7 @@ TEST(StopRules, PreviewClosesTheDiscsTheRunClosesOnTheBunnysBase) {
   Options full;
   full.hole_diameter = 8.0;
   full.spacing = 14.0;
-  Options preview = full;
-  preview.preview = true;
-  const PipelineResult f = run_pipeline(bunny, full, unmonitored());
-  const PipelineResult p = run_pipeline(bunny, preview, unmonitored());
+  const auto [f, p] = run_and_preview(bunny, full);
   const HoleStats& hf = f.meshes.at(0).holes;
   const HoleStats& hp = p.meshes.at(0).holes;
   ASSERT_GT(hf.holes.size(), 150u);
@@ -199,10 +201,7 @@ double diameter_slope_along_z(const HoleStats& s) {
 TEST(StopRules, GradedPreviewShowsTheRunsHoleSizes) {
   Options full = small_sphere_holes();
   full.grade = parse_grade("axis:z:4:8");
-  Options preview = full;
-  preview.preview = true;
-  const PipelineResult f = run_pipeline(sphere(25.0), full, unmonitored());
-  const PipelineResult p = run_pipeline(sphere(25.0), preview, unmonitored());
+  const auto [f, p] = run_and_preview(sphere(25.0), full);
   const HoleStats& hf = f.meshes.at(0).holes;
   const HoleStats& hp = p.meshes.at(0).holes;
   ASSERT_GT(hp.holes.size(), 50u);
