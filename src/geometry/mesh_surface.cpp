@@ -7,6 +7,9 @@
 // point query with the same triangle test is 1.17x slower on the bunny's near field
 // (bench/mesh_distance_vs_embree.cpp, docs/benchmarks.md).
 
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
+
 #include <Eigen/Geometry>  // cross()
 #include <algorithm>
 #include <array>
@@ -21,6 +24,10 @@ namespace {
 constexpr std::int32_t kLeafSize = 4;
 constexpr int kMaxDepth = 64;  // median splits below kSahDepth: depth <= kSahDepth + log2(2^31) + 1
 constexpr int kSahDepth = 30;  // surface-area splits down to here, then medians
+// Halves of at least this many triangles are built at once. The constructor on the bunny's 1.5 M-triangle
+// shell: 0.89-1.02 s building on one thread, 0.66-0.80 s on two (docs/benchmarks.md "The reduction's
+// set-up").
+constexpr std::int32_t kParallelBuild = 20'000;
 
 Vec3 closest_point_on_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
   const Vec3 ab = b - a;
@@ -123,13 +130,13 @@ MeshSurface::MeshSurface(const TriangleMesh& mesh) {
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<std::int32_t>(i);
   nodes_.reserve(4 * tris.size() / kLeafSize + 1);
   nodes_.push_back({});
-  build(0, order, tris, centroids, 0, static_cast<std::int32_t>(tris.size()), 0);
-  tris_.reserve(tris.size());
-  input_index_.reserve(tris.size());
-  for (std::int32_t i : order) {
-    tris_.push_back(tris[i]);
-    input_index_.push_back(input_index[i]);
-  }
+  build(nodes_, 0, order, tris, centroids, 0, static_cast<std::int32_t>(tris.size()), 0);
+  tris_.resize(tris.size());
+  input_index_.resize(tris.size());
+  tbb::parallel_for(std::size_t{0}, order.size(), [&](std::size_t k) {
+    tris_[k] = tris[static_cast<std::size_t>(order[k])];
+    input_index_[k] = input_index[static_cast<std::size_t>(order[k])];
+  });
 }
 
 // Binned surface-area split of order[begin, end) along `axis` (16 bins over the centroids' extent
@@ -189,8 +196,9 @@ std::int32_t MeshSurface::split_by_area(std::vector<std::int32_t>& order, const 
   return static_cast<std::int32_t>(middle - order.begin());
 }
 
-void MeshSurface::build(std::int32_t node, std::vector<std::int32_t>& order, const std::vector<Tri>& tris,
-                        const std::vector<Vec3>& centroids, std::int32_t begin, std::int32_t end, int depth) {
+void MeshSurface::build(std::vector<Node>& nodes, std::int32_t node, std::vector<std::int32_t>& order,
+                        const std::vector<Tri>& tris, const std::vector<Vec3>& centroids, std::int32_t begin,
+                        std::int32_t end, int depth) {
   Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   Vec3 clo = lo, chi = hi;
   for (std::int32_t i = begin; i < end; ++i) {
@@ -200,7 +208,7 @@ void MeshSurface::build(std::int32_t node, std::vector<std::int32_t>& order, con
     clo = clo.cwiseMin(centroids[order[i]]);
     chi = chi.cwiseMax(centroids[order[i]]);
   }
-  nodes_[node] = {lo, hi, begin, end - begin};
+  nodes[node] = {lo, hi, begin, end - begin};
   if (end - begin <= kLeafSize) return;
 
   int axis = 0;
@@ -212,13 +220,27 @@ void MeshSurface::build(std::int32_t node, std::vector<std::int32_t>& order, con
     std::nth_element(order.begin() + begin, order.begin() + mid, order.begin() + end,
                      [&](std::int32_t x, std::int32_t y) { return centroids[x][axis] < centroids[y][axis]; });
   }
-  const auto left = static_cast<std::int32_t>(nodes_.size());
-  nodes_.push_back({});
-  nodes_.push_back({});
-  nodes_[node].first = left;
-  nodes_[node].count = 0;
-  build(left, order, tris, centroids, begin, mid, depth + 1);
-  build(left + 1, order, tris, centroids, mid, end, depth + 1);
+  const auto left = static_cast<std::int32_t>(nodes.size());
+  nodes.push_back({});
+  nodes.push_back({});
+  nodes[node].first = left;
+  nodes[node].count = 0;
+  if (end - begin < 2 * kParallelBuild) {
+    build(nodes, left, order, tris, centroids, begin, mid, depth + 1);
+    build(nodes, left + 1, order, tris, centroids, mid, end, depth + 1);
+    return;
+  }
+  // The halves at once, on their own parts of `order`: the right one into a vector of its own, its
+  // root first, spliced after the left one's nodes where one thread would have put them (the same
+  // tree on any thread count).
+  std::vector<Node> right(1);
+  tbb::parallel_invoke([&] { build(nodes, left, order, tris, centroids, begin, mid, depth + 1); },
+                       [&] { build(right, 0, order, tris, centroids, mid, end, depth + 1); });
+  const auto offset = static_cast<std::int32_t>(nodes.size()) - 1;  // right[k] goes to offset + k, k >= 1
+  for (Node& n : right)
+    if (n.count == 0) n.first += offset;
+  nodes[static_cast<std::size_t>(left) + 1] = right.front();
+  nodes.insert(nodes.end(), right.begin() + 1, right.end());
 }
 
 double MeshSurface::nearest(const Vec3& p, Vec3& closest, std::int32_t& index, double bound2) const {

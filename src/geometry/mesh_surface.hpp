@@ -61,10 +61,12 @@ class MeshSurface final : public Surface {
     double radius = 0.0;
   };
 
-  // Fills nodes_[node] for the triangles order[begin, end), split by surface area (split_by_area)
-  // above depth kSahDepth, at the centroids' median below it or where that split fails.
-  void build(std::int32_t node, std::vector<std::int32_t>& order, const std::vector<Tri>& tris,
-             const std::vector<Vec3>& centroids, std::int32_t begin, std::int32_t end, int depth);
+  // Fills nodes[node] for the triangles order[begin, end), split by surface area (split_by_area)
+  // above depth kSahDepth, at the centroids' median below it or where that split fails, and appends
+  // its descendants to `nodes`.
+  static void build(std::vector<Node>& nodes, std::int32_t node, std::vector<std::int32_t>& order,
+                    const std::vector<Tri>& tris, const std::vector<Vec3>& centroids, std::int32_t begin,
+                    std::int32_t end, int depth);
   static std::int32_t split_by_area(std::vector<std::int32_t>& order, const std::vector<Tri>& tris,
                                     const std::vector<Vec3>& centroids, std::int32_t begin, std::int32_t end,
                                     int axis, const Vec3& clo, const Vec3& chi);
