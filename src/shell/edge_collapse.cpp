@@ -236,9 +236,8 @@ class Collapser {
   static constexpr std::size_t kParallelTriangles = 10'000;
   static constexpr int kParts = 4;
 
-  struct NewTriangle {
-    std::array<std::int32_t, 3> v;
-  };
+  // A triangle the collapse makes, its first corner where v0 was (now v1).
+  using NewTriangle = std::array<std::int32_t, 3>;
 
   // What one sequence of collapses keeps for itself.
   struct Worker {
@@ -426,12 +425,11 @@ class Collapser {
     w.ring.clear();
     for (const std::int32_t k : w.fan_check) {
       if (k / 3 == left || k / 3 == right) continue;  // removed by the collapse
-      NewTriangle t{{vertex(k), vertex(next_corner(k)), vertex(previous_corner(k))}};
-      t.v[0] = v1;
-      const Vec3 &a = point(t.v[0]), &b = point(t.v[1]), &d = point(t.v[2]);
+      const NewTriangle t{v1, vertex(next_corner(k)), vertex(previous_corner(k))};
+      const Vec3 &a = point(t[0]), &b = point(t[1]), &d = point(t[2]);
       if (min_angle_sine(a, b, d) < least) return false;
       const Vec3 n = (b - a).cross(d - a).stableNormalized();
-      for (const std::int32_t x : t.v)
+      for (const std::int32_t x : t)
         if (original_.normal(x).dot(n) < min_cos_) return false;
       w.ring.push_back(t);
     }
@@ -441,7 +439,7 @@ class Collapser {
   // Each new edge is the edge from v1 onwards of one new triangle.
   bool near_ok(Worker& w) const {
     for (const NewTriangle& t : w.ring) {
-      const std::int32_t a = t.v[0], b = t.v[1], d = t.v[2];  // not a structured binding: lambdas use them
+      const std::int32_t a = t[0], b = t[1], d = t[2];  // not a structured binding: lambdas use them
       const Vec3 centroid = (point(a) + point(b) + point(d)) / 3.0;
       if (!w.cache.get(a, b, d, [&] { return original_.near(centroid, {a, b, d}, tolerance_); }))
         return false;
@@ -457,7 +455,7 @@ class Collapser {
     const double tolerance2 = tolerance_ * tolerance_;
     const auto within = [&](const Vec3& p) {
       for (const NewTriangle& t : w.ring)
-        if ((closest_point_on_triangle(p, point(t.v[0]), point(t.v[1]), point(t.v[2])) - p).squaredNorm() <=
+        if ((closest_point_on_triangle(p, point(t[0]), point(t[1]), point(t[2])) - p).squaredNorm() <=
             tolerance2)
           return true;
       return false;

@@ -37,6 +37,21 @@ Options small_sphere_holes() {
   return o;
 }
 
+// Least-squares slope of the holes' diameters against their centres' height.
+double diameter_slope_along_z(const HoleStats& s) {
+  double mz = 0.0, md = 0.0;
+  for (const BandHole& h : s.holes) {
+    mz += h.centre.z() / static_cast<double>(s.holes.size());
+    md += h.diameter / static_cast<double>(s.holes.size());
+  }
+  double zz = 0.0, zd = 0.0;
+  for (const BandHole& h : s.holes) {
+    zz += (h.centre.z() - mz) * (h.centre.z() - mz);
+    zd += (h.centre.z() - mz) * (h.diameter - md);
+  }
+  return zd / zz;
+}
+
 // The full run of a request and its preview.
 std::pair<PipelineResult, PipelineResult> run_and_preview(const Input& input, const Options& full) {
   Options preview = full;
@@ -175,25 +190,6 @@ TEST(StopRules, PreviewClosesTheDiscsTheRunClosesOnTheBunnysBase) {
     astray += largest_nearest_distance(std::span<const Vec3>(&x, 1), theirs) > 0.15 * full.spacing ? 1 : 0;
   EXPECT_LE(astray, 1u) << "preview holes the run does not make";
 }
-
-namespace {
-
-// Least-squares slope of the holes' diameters against their centres' height.
-double diameter_slope_along_z(const HoleStats& s) {
-  double mz = 0.0, md = 0.0;
-  for (const BandHole& h : s.holes) {
-    mz += h.centre.z() / static_cast<double>(s.holes.size());
-    md += h.diameter / static_cast<double>(s.holes.size());
-  }
-  double zz = 0.0, zd = 0.0;
-  for (const BandHole& h : s.holes) {
-    zz += (h.centre.z() - mz) * (h.centre.z() - mz);
-    zd += (h.centre.z() - mz) * (h.diameter - md);
-  }
-  return zd / zz;
-}
-
-}  // namespace
 
 // A graded preview shows the graded sizes: its discs, as placed, are shifted by their own profile's
 // levels (disc_levels), not by the equation's pores' calibration, which gave them 0.58 of the run's
