@@ -1,18 +1,23 @@
 // The triangle reduction's cost (issue 18, item 8; docs/benchmarks.md "Triangle reduction").
 //
-//   bench_reduce MESH --triangles N [--distance D] [--repeats 3]
+//   bench_reduce MESH --triangles N [--distance D] [--repeats 3] [--compare]
 //
 // Reads a closed mesh (an unreduced poreshell output, in its own units) and reduces it to N
 // triangles within D, timing decimate_mesh() alone. Prints per repeat the wall time, the
-// microseconds per collapse made, the count reached, the distance measured and a hash of the kept
+// microseconds per collapse made, the count reached, the distance measured, how many collapses the
+// fans' own bounds settled and how many the checks against the original, and a hash of the kept
 // triangles' corners (their x coordinates, in order), the same on every repeat, to compare builds.
+// --compare alternates the default rule with the checks alone and prints the ratio of the fastest
+// of each.
 
 #include <fmt/core.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <string>
 
 #include "io/mesh_io.hpp"
@@ -25,18 +30,23 @@ int main(int argc, char** argv) {
   std::int64_t triangles = 0;
   double distance = 0.05;
   int repeats = 3;
+  bool compare = false;
   app.add_option("mesh", path, "closed mesh file")->required();
   app.add_option("--triangles", triangles, "target triangle count")->required();
   app.add_option("--distance", distance, "distance bound, in the mesh's units");
   app.add_option("--repeats", repeats, "runs");
+  app.add_flag("--compare", compare, "also time the checks alone (no bounds from the fans)");
   CLI11_PARSE(app, argc, argv);
 
   const TriangleMesh input = read_triangle_mesh(path);
-  for (int r = 0; r < repeats; ++r) {
+  double fastest[2] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+  for (int run = 0; run < (compare ? 2 : 1) * repeats; ++run) {
+    const bool checks_alone = run % 2 == 1;
     TriangleMesh mesh = input;
     DecimateOptions options;
     options.max_triangles = triangles;
     options.max_distance = distance;
+    options.rule = checks_alone ? DistanceRule::kCheckOnly : DistanceRule::kBoundOrCheck;
     const auto start = std::chrono::steady_clock::now();
     const DecimateResult result = decimate_mesh(mesh, options);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -45,8 +55,14 @@ int main(int argc, char** argv) {
     for (const auto& t : mesh.triangles)
       for (const std::int32_t v : t)
         hash = hash * 1000003u ^ std::hash<double>{}(mesh.vertices[static_cast<std::size_t>(v)].x());
-    fmt::print("{} -> {} triangles in {:.2f} s, {:.1f} us a collapse, distance {:.4f}, output hash {:x}\n",
-               result.triangles_before, result.triangles_after, seconds, 1e6 * seconds / collapses,
-               result.max_distance, hash);
+    fastest[checks_alone] = std::min(fastest[checks_alone], seconds);
+    fmt::print(
+        "{}{} -> {} triangles in {:.2f} s, {:.1f} us a collapse, distance {:.4f}, collapses bounded {} "
+        "checked "
+        "{}, output hash {:x}\n",
+        checks_alone ? "checks alone: " : "", result.triangles_before, result.triangles_after, seconds,
+        1e6 * seconds / collapses, result.max_distance, result.collapses.bounded, result.collapses.checked,
+        hash);
   }
+  if (compare) fmt::print("fastest with bounds / checks alone: {:.2f}\n", fastest[0] / fastest[1]);
 }

@@ -4,7 +4,10 @@
 // an indexed heap of vertices per worker, the workers on separate parts of the mesh at once. OpenMesh's
 // DecimaterT made the same collapses under the same rules, on one core, in 2.3-2.6 times the time of
 // one worker here; the parts on 2 cores take 0.54-0.68 of one worker's time (docs/benchmarks.md
-// "Triangle reduction on flat arrays").
+// "Triangle reduction on flat arrays"). Where a collapse's distance from the original follows from
+// the triangles around it (fan_distance_bound()), it asks the original surface nothing: on the bunny
+// that settles 70 % of the collapses and takes the reduction's time to 0.84 of the checks alone
+// (bench_reduce --compare; docs/benchmarks.md "Bounds from the fans").
 
 #include <tbb/parallel_for.h>
 
@@ -23,6 +26,9 @@ namespace {
 constexpr double kMinAngleDegrees = 10.0;   // smallest angle of a new triangle
 constexpr double kMaxNormalDegrees = 90.0;  // between a new triangle and the surface at its corners
 constexpr std::size_t kReportEvery = 1024;  // collapses between two progress reports
+constexpr double kUnbounded = std::numeric_limits<double>::infinity();
+// Slack in the barycentric test of a point on a triangle's edge, lest round-off miss both triangles.
+constexpr double kOnEdge = 1e-12;
 
 // Sum of squared distances to planes, each weighted by its triangle's area: the symmetric 4 x 4
 // matrix's upper triangle.
@@ -132,10 +138,11 @@ class VertexHeap {
 class Collapser {
  public:
   Collapser(const TriangleMesh& mesh, const std::vector<std::int32_t>& opposite,
-            const OriginalSurface& original, double tolerance)
+            const OriginalSurface& original, double tolerance, DistanceRule rule)
       : points_(mesh.vertices),
         original_(original),
         tolerance_(tolerance),
+        rule_(rule),
         corners_(3 * mesh.triangles.size()),
         vertex_corner_(mesh.vertices.size(), -1),
         valence_(mesh.vertices.size(), 0),
@@ -147,7 +154,9 @@ class Collapser {
         owner_(mesh.vertices.size(), 0),
         bound_(mesh.vertices.size(), 0.0),
         checked_(mesh.vertices.size(), 0),
-        target_(mesh.vertices.size(), -1) {
+        target_(mesh.vertices.size(), -1),
+        distance_bound_(mesh.triangles.size(), 0.0),
+        target_bound_(mesh.vertices.size(), kUnbounded) {
     // A closed manifold's vertex has as many triangles as edges: its valence counts its corners.
     for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
       const auto& t = mesh.triangles[f];
@@ -177,7 +186,7 @@ class Collapser {
   // kParallelTriangles first runs kParts workers at once on slabs of equal vertex counts along its
   // longest side, each to its share of the collapses; the same slabs whatever the thread count, so
   // the same result.
-  void run(std::size_t target, const StageProgress& progress) {
+  void run(std::size_t target, CollapseCounts& counts, const StageProgress& progress) {
     const std::size_t live = dead_.size();  // run() is the collapser's one call: none is dead yet
     if (live <= target) return;
     LoopProgress loop(progress, (live - target) / 2);
@@ -186,6 +195,7 @@ class Collapser {
       const std::vector<std::size_t> share = split_into_parts(kParts);
       std::vector<std::size_t> removed(kParts, 0);
       std::vector<std::vector<std::int32_t>> left(kParts);
+      std::vector<CollapseCounts> part_counts(kParts);
       tbb::parallel_for(0, kParts, [&](int part) {
         const auto p = static_cast<std::size_t>(part);
         Worker worker(part, points_.size(), share[p]);
@@ -196,6 +206,7 @@ class Collapser {
                                      static_cast<double>(share[p]) / static_cast<double>(live));
         removed[p] = collapse_until(worker, quota, candidate, loop);
         left[p] = worker.heap.vertices();
+        part_counts[p] = worker.counts;
       });
       // The last worker tries the vertices along the cuts and those still in a part's heap; the
       // others failed every collapse and stay out until a collapse next to them, as in one run.
@@ -213,9 +224,12 @@ class Collapser {
       const std::size_t all = std::accumulate(removed.begin(), removed.end(), std::size_t{0});
       Worker last(0, points_.size(), live);
       collapse_until(last, live - all > target ? live - all - target : 0, candidate, loop);
+      for (const CollapseCounts& c : part_counts) counts += c;
+      counts += last.counts;
     } else {
       Worker worker(0, points_.size(), live);
       collapse_until(worker, live - target, candidate, loop);
+      counts += worker.counts;
     }
     progress.check();
   }
@@ -239,6 +253,11 @@ class Collapser {
   // A triangle the collapse makes, its first corner where v0 was (now v1).
   using NewTriangle = std::array<std::int32_t, 3>;
 
+  // A point seen along a fan's normal: where across it, and the height along it, from the fan's centre.
+  struct Projected {
+    double x, y, h;
+  };
+
   // What one sequence of collapses keeps for itself.
   struct Worker {
     // `questions`: about how many distinct ones the cache should hold (NearCache).
@@ -253,6 +272,8 @@ class Collapser {
     std::vector<std::int32_t> scratch, fan_rated, fan_check, fan_kept, moved;
     std::vector<std::tuple<double, std::int32_t, std::int32_t>> candidates;  // (error, v1, corner)
     std::vector<NewTriangle> ring;
+    std::vector<Projected> spokes;
+    CollapseCounts counts;
   };
 
   // Slabs along the longest side, of equal vertex counts; a vertex with a neighbour in another slab
@@ -304,6 +325,7 @@ class Collapser {
         continue;
       }
       const std::int32_t kept = vertex(next_corner(target_[u]));
+      ++(target_bound_[u] == kUnbounded ? w.counts.checked : w.counts.bounded);
       collapse(w, target_[u]);
       removed += 2;
       // Every vertex whose collapses the change could touch is next to the kept one. Its collapses'
@@ -401,27 +423,34 @@ class Collapser {
     for (const std::int32_t c : w.fan_rated) w.candidates.emplace_back(error(c), vertex(next_corner(c)), c);
     std::sort(w.candidates.begin(), w.candidates.end());  // ties by the kept vertex: deterministic
     bound_[u] = std::get<0>(w.candidates.front());
-    for (const auto& [e, kept, c] : w.candidates)
-      if (owns(w, kept) && link_ok(w, c) && shape_ok(w, c) && near_ok(w) && hausdorff_ok(w, c)) {
-        checked_[u] = 1;
-        target_[u] = c;
-        w.heap.set(v, e);
-        return;
+    w.fan_check = w.fan_rated;
+    double before = 1.0;
+    for (const std::int32_t k : w.fan_check)
+      before = std::min(before, sine_[static_cast<std::size_t>(k / 3)]);
+    const double least = std::min(min_sine_, before);
+    for (const auto& [e, kept, c] : w.candidates) {
+      if (!owns(w, kept) || !link_ok(w, c) || !shape_ok(w, c, least)) continue;
+      // The bound where it follows from the fans alone; else the checks against the original.
+      double bound = rule_ == DistanceRule::kCheckOnly ? kUnbounded : fan_distance_bound(w, c);
+      if (bound == kUnbounded) {
+        if (rule_ == DistanceRule::kBoundOnly || !hausdorff_ok(w, c) || !near_ok(w)) continue;
+        bound = kUnbounded;
       }
+      target_bound_[u] = bound;
+      checked_[u] = 1;
+      target_[u] = c;
+      w.heap.set(v, e);
+      return;
+    }
     checked_[u] = 0;
     w.heap.remove(v);
   }
 
   // Angles and normals of the triangles the collapse changes; keeps them in the worker's ring for
   // the checks after.
-  bool shape_ok(Worker& w, std::int32_t c) {
-    const std::int32_t v0 = vertex(c), v1 = vertex(next_corner(c));
+  bool shape_ok(Worker& w, std::int32_t c, double least) {
+    const std::int32_t v1 = vertex(next_corner(c));
     const std::int32_t left = c / 3, right = across(previous_corner(c)) / 3;
-    fan(v0, w.fan_check);
-    double before = 1.0;
-    for (const std::int32_t k : w.fan_check)
-      before = std::min(before, sine_[static_cast<std::size_t>(k / 3)]);
-    const double least = std::min(min_sine_, before);
     w.ring.clear();
     for (const std::int32_t k : w.fan_check) {
       if (k / 3 == left || k / 3 == right) continue;  // removed by the collapse
@@ -434,6 +463,63 @@ class Collapser {
       w.ring.push_back(t);
     }
     return true;
+  }
+
+  // A bound on how far the triangles the collapse makes can be from the original surface, both ways,
+  // that needs no question to it, or kUnbounded. Seen along the old fan's normal, the old fan
+  // around v0 and the new one around v1 cover the same polygon, v0's link, once each where all their
+  // triangles face that way and the link winds once around v0: each point of one fan then has one
+  // of the other straight across, and the two are as far apart as the heights of two piecewise
+  // linear functions over the polygon, greatest where v0 lies or where an edge of one crosses an
+  // edge of the other. Add the old triangles' own bounds.
+  double fan_distance_bound(Worker& w, std::int32_t c) const {
+    const Vec3& p0 = point(vertex(c));
+    Vec3 normal = Vec3::Zero();
+    for (const std::int32_t k : w.fan_check)
+      normal += (point(vertex(next_corner(k))) - p0).cross(point(vertex(previous_corner(k))) - p0);
+    if (!(normal.norm() > 0.0)) return kUnbounded;
+    normal.normalize();
+    const Vec3 ex = normal.unitOrthogonal(), ey = normal.cross(ex);
+    const auto seen = [&](std::int32_t v) {
+      const Vec3 d = point(v) - p0;
+      return Projected{ex.dot(d), ey.dot(d), normal.dot(d)};
+    };
+    const auto cross = [](const Projected& a, const Projected& b) { return a.x * b.y - a.y * b.x; };
+    double old_bound = 0.0, turn = 0.0;
+    w.spokes.clear();
+    for (const std::int32_t k : w.fan_check) {
+      const Projected a = seen(vertex(next_corner(k))), b = seen(vertex(previous_corner(k)));
+      const double twice_area = cross(a, b);
+      if (!(twice_area > 0.0)) return kUnbounded;
+      turn += std::atan2(twice_area, a.x * b.x + a.y * b.y);
+      old_bound = std::max(old_bound, distance_bound_[static_cast<std::size_t>(k / 3)]);
+      w.spokes.push_back(a);
+    }
+    if (turn > 3.0 * std::numbers::pi) return kUnbounded;  // the link winds twice or more
+    double gap = 0.0;
+    bool covers_v0 = false;
+    for (const NewTriangle& t : w.ring) {
+      const Projected a = seen(t[0]), b = seen(t[1]), d = seen(t[2]);
+      const Projected ab{b.x - a.x, b.y - a.y, b.h - a.h}, ad{d.x - a.x, d.y - a.y, d.h - a.h};
+      const double twice_area = cross(ab, ad);
+      if (!(twice_area > 0.0)) return kUnbounded;
+      // v0's barycentric coordinates in the new triangle.
+      const double wb = (a.y * d.x - a.x * d.y) / twice_area, wd = cross(a, b) / twice_area;
+      if (wb >= -kOnEdge && wd >= -kOnEdge && wb + wd <= 1.0 + kOnEdge) {
+        covers_v0 = true;
+        gap = std::max(gap, std::abs(a.h + wb * ab.h + wd * ad.h));
+      }
+      // The new edge a -> d (from v1; every inner one is one of these) across each spoke p0 -> s:
+      // u s = a + v ad.
+      for (const Projected& s : w.spokes) {
+        const double det = cross(s, ad);
+        if (det == 0.0) continue;
+        const double u = cross(a, ad) / det, v = cross(a, s) / det;
+        if (u > 0.0 && u < 1.0 && v > 0.0 && v < 1.0) gap = std::max(gap, std::abs(a.h + v * ad.h - u * s.h));
+      }
+    }
+    const double bound = gap + old_bound;
+    return covers_v0 && bound <= tolerance_ ? bound : kUnbounded;
   }
 
   // Each new edge is the edge from v1 onwards of one new triangle.
@@ -487,7 +573,10 @@ class Collapser {
     corners_[static_cast<std::size_t>(f)].opposite = g;
     corners_[static_cast<std::size_t>(g)].opposite = f;
     for (const std::int32_t k : w.fan_check)
-      if (k / 3 != left && k / 3 != right) corners_[static_cast<std::size_t>(k)].vertex = v1;
+      if (k / 3 != left && k / 3 != right) {
+        corners_[static_cast<std::size_t>(k)].vertex = v1;
+        distance_bound_[static_cast<std::size_t>(k / 3)] = target_bound_[static_cast<std::size_t>(v0)];
+      }
     dead_[static_cast<std::size_t>(left)] = dead_[static_cast<std::size_t>(right)] = 1;
     vertex_corner_[static_cast<std::size_t>(v0)] = -1;
     vertex_corner_[static_cast<std::size_t>(v1)] = corner_in(a / 3, v1);
@@ -538,6 +627,7 @@ class Collapser {
   const std::vector<Vec3>& points_;
   const OriginalSurface& original_;
   const double tolerance_;
+  const DistanceRule rule_;
   const double min_sine_ = std::sin(kMinAngleDegrees * std::numbers::pi / 180.0);
   const double min_cos_ = std::cos(kMaxNormalDegrees * std::numbers::pi / 180.0);
 
@@ -559,6 +649,10 @@ class Collapser {
   std::vector<double> bound_;         // per vertex: at most the error of each of its collapses
   std::vector<char> checked_;         // target_ passed all the rules and the heap holds its error
   std::vector<std::int32_t> target_;  // per vertex: the collapse chosen
+  // Per triangle: at most its distance from the original surface, both ways, as far as
+  // fan_distance_bound() can tell; kUnbounded where the checks at points against it passed instead.
+  std::vector<double> distance_bound_;
+  std::vector<double> target_bound_;  // per vertex: fan_distance_bound() of target_
 };
 
 }  // namespace
@@ -567,9 +661,10 @@ std::vector<std::array<std::int32_t, 3>> collapse_edges(const TriangleMesh& mesh
                                                         const std::vector<std::int32_t>& opposite,
                                                         const OriginalSurface& original,
                                                         std::int64_t max_triangles, double tolerance,
+                                                        DistanceRule rule, CollapseCounts& counts,
                                                         const StageProgress& progress) {
-  Collapser collapser(mesh, opposite, original, tolerance);
-  collapser.run(static_cast<std::size_t>(max_triangles), progress);
+  Collapser collapser(mesh, opposite, original, tolerance, rule);
+  collapser.run(static_cast<std::size_t>(max_triangles), counts, progress);
   return collapser.triangles();
 }
 

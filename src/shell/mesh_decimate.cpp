@@ -142,8 +142,10 @@ DecimateResult decimate_mesh(TriangleMesh& mesh, const DecimateOptions& options)
     // the share up to 0.97, each later one half of what is left.
     const StageProgress part = progress.part(attempt == 0 ? 0.03 : 1.0 - 0.03 * std::pow(0.5, attempt - 1),
                                              1.0 - 0.03 * std::pow(0.5, attempt));
-    TriangleMesh reduced = compact(mesh, collapse_edges(mesh, opposite, original, options.max_triangles,
-                                                        tolerance, part.part(0.0, 0.95)));
+    CollapseCounts counts;
+    TriangleMesh reduced =
+        compact(mesh, collapse_edges(mesh, opposite, original, options.max_triangles, tolerance, options.rule,
+                                     counts, part.part(0.0, 0.95)));
     part.advance(0.96);
     const double distance = two_sided_distance(original_surface, mesh, reduced);
     part.advance(0.99);
@@ -154,6 +156,8 @@ DecimateResult decimate_mesh(TriangleMesh& mesh, const DecimateOptions& options)
     check_result(before, analyze_topology(reduced), volume_tolerance);
     result.triangles_after = static_cast<std::int64_t>(reduced.triangles.size());
     result.max_distance = distance;
+    result.collapses = counts;
+    result.attempts = attempt + 1;
     result.reached_target = result.triangles_after <= options.max_triangles;
     mesh = std::move(reduced);
     return result;

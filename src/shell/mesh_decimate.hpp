@@ -11,6 +11,11 @@
 
 namespace poreshell {
 
+// How each collapse is kept within the distance bound: by a bound that follows from the triangles
+// around it alone where one does (edge_collapse.cpp, fan_distance_bound()), else by asking the
+// original surface at points; or by either alone, to compare (bench_reduce, tests).
+enum class DistanceRule { kBoundOrCheck, kCheckOnly, kBoundOnly };
+
 struct DecimateOptions {
   std::int64_t max_triangles = 0;  // target count; >= 4
   // Bound on the distance between the reduced and the original surface, both ways, in the mesh's
@@ -18,6 +23,17 @@ struct DecimateOptions {
   // meet.
   double max_distance = 0.0;
   StageProgress progress{};  // the reduction's share of its stage (checked, reported)
+  DistanceRule rule = DistanceRule::kBoundOrCheck;
+};
+
+// How many collapses each way of DistanceRule kept within the bound.
+struct CollapseCounts {
+  std::int64_t bounded = 0, checked = 0;
+  CollapseCounts& operator+=(const CollapseCounts& other) {
+    bounded += other.bounded;
+    checked += other.checked;
+    return *this;
+  }
 };
 
 struct DecimateResult {
@@ -27,6 +43,8 @@ struct DecimateResult {
   // Never above DecimateOptions::max_distance.
   double max_distance = 0.0;
   bool reached_target = false;  // false when the distance bound or the triangle shapes stopped it first
+  CollapseCounts collapses;     // of the attempt returned
+  int attempts = 0;             // reductions made: more than 1 where the distance measured overshot
 };
 
 // Reduces `mesh` in place to at most options.max_triangles triangles, as far as the distance bound

@@ -14,6 +14,7 @@
 #include <numbers>
 #include <set>
 #include <stdexcept>
+#include <utility>
 
 #include "core/error.hpp"
 #include "geometry/isosurface.hpp"
@@ -140,6 +141,22 @@ double two_sided_distance(const TriangleMesh& original, const TriangleMesh& redu
   return d;
 }
 
+// Largest distance from points spread over every triangle of `from` (a grid of `steps` + 1 along each
+// side, corners included) to the surface `to`.
+double largest_distance_over(const TriangleMesh& from, const TriangleMesh& to, int steps) {
+  const MeshSurface surface(to);
+  double d = 0.0;
+  for (const auto& t : from.triangles)
+    for (int i = 0; i <= steps; ++i)
+      for (int j = 0; i + j <= steps; ++j) {
+        const double u = static_cast<double>(i) / steps, v = static_cast<double>(j) / steps;
+        const Vec3 p =
+            (1.0 - u - v) * from.vertices[t[0]] + u * from.vertices[t[1]] + v * from.vertices[t[2]];
+        d = std::max(d, surface.distance(p));
+      }
+  return d;
+}
+
 void expect_printable(const MeshTopology& t) {
   EXPECT_TRUE(t.closed()) << t.boundary_edges << " boundary edges";
   EXPECT_TRUE(t.manifold()) << t.nonmanifold_edges << " edges, " << t.nonmanifold_vertices << " vertices";
@@ -238,6 +255,45 @@ TEST(MeshDecimate, PorousShellKeepsGenusAndMakesNoSlivers) {
   ASSERT_GT(slivers_before, 100);
   EXPECT_LT(slivers_after, slivers_before / 4);
   EXPECT_GE(min_angle_degrees(mesh), min_angle_degrees(original));
+}
+
+TEST(MeshDecimate, FanBoundsHoldEverywhereNotOnlyWhereMeasured) {
+  // A bound from the fans alone holds at every point of a triangle, not only at the points the checks
+  // ask about: with it alone, reducing as far as it allows, the distance measured never overshoots
+  // (which would take a second attempt), and dense points on either surface stay within the bound of
+  // the other.
+  for (const auto& [original, max_distance] :
+       {std::pair{torus(60, 20, 3.0, 1.0), 0.05}, std::pair{porous_shell(6), 0.1}}) {
+    TriangleMesh mesh = original;
+    DecimateOptions options{4, max_distance};
+    options.rule = DistanceRule::kBoundOnly;
+    const DecimateResult result = decimate_mesh(mesh, options);
+    EXPECT_EQ(result.attempts, 1);
+    EXPECT_EQ(result.collapses.checked, 0);
+    EXPECT_LT(result.triangles_after, 0.6 * static_cast<double>(result.triangles_before));
+    expect_faithful(original, mesh, options, result);
+    EXPECT_LE(largest_distance_over(mesh, original, 8), options.max_distance);
+    EXPECT_LE(largest_distance_over(original, mesh, 3), options.max_distance);
+  }
+}
+
+TEST(MeshDecimate, BoundsSettleMostCollapsesOnSmoothPartsAndChecksTheRest) {
+  const TriangleMesh original = porous_shell(6);
+  const auto reduce = [&](DistanceRule rule) {
+    TriangleMesh mesh = original;
+    DecimateOptions options{static_cast<std::int64_t>(original.triangles.size() / 8), 0.05};
+    options.rule = rule;
+    const DecimateResult result = decimate_mesh(mesh, options);
+    expect_faithful(original, mesh, options, result);
+    return result;
+  };
+  const DecimateResult both = reduce(DistanceRule::kBoundOrCheck), checks = reduce(DistanceRule::kCheckOnly);
+  EXPECT_GT(both.collapses.bounded, both.collapses.checked);
+  EXPECT_GT(both.collapses.checked, 0);  // the pores' rims
+  EXPECT_EQ(checks.collapses.bounded, 0);
+  // A bound within the tolerance keeps the points the checks ask about within it too: no fewer
+  // collapses pass.
+  EXPECT_LE(both.triangles_after, checks.triangles_after);
 }
 
 TEST(MeshDecimate, FlatFacesOfACubeCollapseExactly) {
