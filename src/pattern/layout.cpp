@@ -380,6 +380,28 @@ std::vector<double> disc_field(const NarrowBand& band, std::span<const Vec3> cen
   return phi;
 }
 
+std::vector<Vec3> merge_overlapping_centres(std::vector<Vec3> centres, double diameter,
+                                            const Surface& surface) {
+  for (;;) {
+    if (centres.size() < 2) return centres;
+    const PointTree tree(centres);
+    std::size_t a = 0, b = 0;
+    double closest = diameter;
+    for (std::size_t i = 0; i < centres.size(); ++i) {
+      const std::size_t j = tree.k_nearest(centres[i], 2)[1];
+      if (const double d = (centres[j] - centres[i]).norm(); d < closest) {
+        closest = d;
+        a = std::min(i, j);
+        b = std::max(i, j);
+      }
+    }
+    if (a == b) return centres;
+    const Vec3 middle = 0.5 * (centres[a] + centres[b]);
+    centres[a] = surface.closest_point(middle).value_or(middle);
+    centres.erase(centres.begin() + static_cast<std::ptrdiff_t>(b));
+  }
+}
+
 std::vector<Vec3> even_layout(const NarrowBand& band, const Surface& surface,
                               std::span<const double> zone_weight, double spacing, std::uint64_t seed) {
   const AreaSamples samples = area_samples(band, zone_weight, kZoneMargin * spacing);

@@ -49,15 +49,17 @@ namespace {
 // The even layout's start: discs at a centroidal Voronoi tessellation of the surface's free area
 // (pattern/layout.hpp), none whose pore would come within half an interface width of an open edge,
 // sized so that the pore level's contour is the asked diameter; for a run, on the mean the equation's
-// start had (the nonlocal term has a solution only for the mean it starts from).
+// start had (the nonlocal term has a solution only for the mean it starts from). A preview (no mean: the
+// discs are shown, not solved) merges overlapping discs as the equation would.
 std::vector<double> even_layout_start(const PatternPlan& plan, const PlacedSurface& placed,
                                       const NarrowBand& band, std::span<const double> weight,
                                       std::uint64_t seed, std::optional<double> mean, SolveResult& result) {
   const double epsilon = result.model.epsilon, mm_per_grid = placed.mm_per_grid();
   const double pore_radius = 0.5 * plan.diameter / mm_per_grid;
-  const std::vector<Vec3> centres = clear_of_open_edges(
+  std::vector<Vec3> centres = clear_of_open_edges(
       even_layout(band, *placed.surface, weight, plan.spacing / mm_per_grid, seed),
       placed.mesh ? boundary_segments(*placed.mesh) : std::vector<Segment>{}, pore_radius + 0.5 * epsilon);
+  if (!mean) centres = merge_overlapping_centres(std::move(centres), 2.0 * pore_radius, *placed.surface);
   result.layout_holes = static_cast<std::int64_t>(centres.size());
   // tanh((R - r) / (sqrt 2 eps)) = level at r = D / 2.
   const double radius = pore_radius + std::sqrt(2.0) * epsilon * std::atanh(plan.level);

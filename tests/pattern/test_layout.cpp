@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>
 
+#include <Eigen/Geometry>  // cross()
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -272,6 +274,26 @@ TEST(Layout, CentresNearAnOpenEdgeAreDroppedAndTheRestKept) {
   EXPECT_GT(kept.size(), 100u);
   EXPECT_LT(kept.size(), centres.size() - 50);
   EXPECT_EQ(clear_of_open_edges(centres, {}, clearance), centres);  // a closed surface keeps them all
+}
+
+TEST(Layout, OverlappingDiscsMergeIntoOneOnTheSurfaceAndTheRestStay) {
+  // Well-spaced centres, and beside the first a cluster of three whose discs would overlap.
+  const double diameter = 0.1;
+  std::vector<Vec3> centres = even_layout(band(), sphere(), {}, 0.25, 1);
+  ASSERT_GT(centres.size(), 10u);
+  const std::vector<Vec3> spaced = centres;
+  const Vec3 a = centres[0], tangent = (a - kCentre).cross(Vec3::UnitZ()).normalized();
+  for (const double shift : {0.04, 0.08})
+    centres.push_back(*sphere().closest_point(a + shift * tangent));  // 0.04 apart: they chain
+  const std::vector<Vec3> merged = merge_overlapping_centres(centres, diameter, sphere());
+  ASSERT_EQ(merged.size(), spaced.size());
+  for (std::size_t i = 1; i < spaced.size(); ++i) EXPECT_EQ(merged[i], spaced[i]) << i;
+  // The cluster's one centre lies on the surface, among its three.
+  EXPECT_NEAR((merged[0] - kCentre).norm(), kRadius, 1e-9);
+  EXPECT_LT((merged[0] - (a + 0.04 * tangent)).norm(), 0.04);
+  const PointTree tree(merged);
+  for (const Vec3& c : merged) EXPECT_GE((merged[tree.k_nearest(c, 2)[1]] - c).norm(), diameter);
+  EXPECT_EQ(merge_overlapping_centres(spaced, diameter, sphere()), spaced);  // none overlap: unchanged
 }
 
 TEST(Layout, CloseSmallSpotsMakesPinholesSolidAndKeepsTheRest) {
