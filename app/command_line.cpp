@@ -279,11 +279,13 @@ std::optional<Command> parse_command_line(int argc, const char* const* argv) {
       ->type_name("T")
       ->check(number_above(0.0, false))
       ->capture_default_str();
-  // Required, but checked after parsing: CLI11 reports a missing required option before an unknown one,
-  // which would hide a misspelt flag behind "--output is required".
-  app.add_option("-o,--output", output,
-                 "output mesh in mm (required); the extension picks the format: .stl (binary), .3mf, .obj, "
-                 ".ply (binary); several --iso levels write OUT-isoC.ext each")
+  // This or a view is required, checked after parsing: CLI11 reports a missing required option before an
+  // unknown one, which would hide a misspelt flag behind "--output is required".
+  app.add_option(
+         "-o,--output", output,
+         "output mesh in mm; the extension picks the format: .stl (binary), .3mf, .obj, .ply (binary); "
+         "several --iso levels write OUT-isoC.ext each. Without it, only --html, --png, --holes or "
+         "--report are written (to look before printing)")
       ->type_name("OUT.stl");
   app.add_option("--report", report, "write the run's JSON report here")->type_name("OUT.json");
   app.add_flag("-q,--quiet", quiet, "nothing on stdout and no progress: only errors and warnings, on stderr");
@@ -332,7 +334,10 @@ std::optional<Command> parse_command_line(int argc, const char* const* argv) {
     throw UsageError(message);
   }
   if (!app.remaining().empty()) throw UsageError(unknown_argument_message(app, app.remaining().front()));
-  if (output.empty()) throw UsageError("no output file: give -o OUT.stl");
+  if (output.empty() && html.empty() && png.empty() && holes_csv.empty() && report.empty())
+    throw UsageError(
+        "no output file: give -o OUT.stl for the part, or --html OUT.html to look at it first (or --png, "
+        "--holes, --report)");
   options.coarse_start = coarse_start == "auto";
   for (const std::string& text : keep_out) {
     const auto v = numbers(text, 4);

@@ -65,7 +65,7 @@ int run(int argc, char** argv) {
   // Fail before the (possibly minutes long) run rather than after it.
   const bool several = options.iso.size() > 1 && options.hole_diameter <= 0.0 && options.spacing <= 0.0 &&
                        options.porosity <= 0.0;
-  poreshell::check_mesh_path(output);
+  if (!output.empty()) poreshell::check_mesh_path(output);
   if (!report.empty()) poreshell::check_output_path(report);
   if (!holes_csv.empty()) poreshell::check_output_path(holes_csv);
   if (!html.empty()) poreshell::check_output_path(html);
@@ -110,7 +110,7 @@ int run(int argc, char** argv) {
   r.command_line = command.arguments;
   writing = true;
   const auto start_write = std::chrono::steady_clock::now();
-  for (std::size_t i = 0; i < result.outputs.size(); ++i) {
+  for (std::size_t i = 0; i < result.outputs.size() && !output.empty(); ++i) {
     const fs::path path = poreshell::output_path_for_level(output, result.outputs[i].iso, several);
     poreshell::save_mesh(path, result.outputs[i]);
     r.outputs[i].path = path.string();

@@ -174,15 +174,16 @@ void print_summary(const poreshell::Options& c, const poreshell::Report& r,
                      ? std::string("no hole reaches in")
                      : fmt::format("{} HOLES REACH IN", m.zones.holes_in_keep_outs),
                  m.zones.keep_out_clearance);
+    const std::string path = m.path.empty() ? std::string("no file (no -o)") : m.path;
     if (r.preview) {
-      fmt::print("  output   {} (iso {:g}): the surface with {} holes painted on (preview)\n", m.path, m.iso,
+      fmt::print("  output   {} (iso {:g}): the surface with {} holes painted on (preview)\n", path, m.iso,
                  m.holes.count);
       continue;
     }
     fmt::print(
         "  output   {} (iso {:g}): {} triangles, {}, {}, smallest angle {:.1f} deg, Euler characteristic {}, "
         "pores from Euler {} vs {} spots on band\n",
-        m.path, m.iso, t.triangles, yes_no(t.closed, "closed", "OPEN"),
+        path, m.iso, t.triangles, yes_no(t.closed, "closed", "OPEN"),
         yes_no(t.manifold, "manifold", "NON-MANIFOLD"), t.min_angle_degrees, t.euler_characteristic,
         m.pores_from_euler, m.spots_at_iso);
   }

@@ -141,6 +141,18 @@ TEST_F(Cli, MissingOutputIsAUsageError) {
   EXPECT_TRUE(files_in_work().empty());
 }
 
+TEST_F(Cli, AViewAloneNeedsNoMeshFile) {
+  // A designer's first look: the preview's page, no mesh file. The summary says none was written.
+  const Outcome o = run("--shape sphere --radius 20 --hole-diameter 6 --spacing 10 --preview --html v.html");
+  ASSERT_EQ(o.exit_code, 0) << o.err;
+  EXPECT_EQ(files_in_work(), std::vector<std::string>{"v.html"});
+  EXPECT_NE(o.out.find("no file (no -o)"), std::string::npos) << o.out;
+  const Outcome table =
+      run("--shape sphere --radius 20 --hole-diameter 6 --spacing 10 --preview --holes h.csv -q");
+  ASSERT_EQ(table.exit_code, 0) << table.err;
+  EXPECT_TRUE(fs::exists(work() / "h.csv"));
+}
+
 TEST_F(Cli, InvalidValuesFailWithAMessageAndNoOutput) {
   for (const char* args : {"--resolution 2 -o X.stl --report X.json", "--alpha -1 -o X.stl --report X.json",
                            "--phi-bar 2 -o X.stl --report X.json --quiet"}) {
