@@ -423,7 +423,7 @@ class Collapser {
     for (const std::int32_t c : w.fan_rated) w.candidates.emplace_back(error(c), vertex(next_corner(c)), c);
     std::sort(w.candidates.begin(), w.candidates.end());  // ties by the kept vertex: deterministic
     bound_[u] = std::get<0>(w.candidates.front());
-    w.fan_check = w.fan_rated;
+    w.fan_check = w.fan_rated;  // the checks' copy of v0's fan
     double before = 1.0;
     for (const std::int32_t k : w.fan_check)
       before = std::min(before, sine_[static_cast<std::size_t>(k / 3)]);
@@ -431,11 +431,9 @@ class Collapser {
     for (const auto& [e, kept, c] : w.candidates) {
       if (!owns(w, kept) || !link_ok(w, c) || !shape_ok(w, c, least)) continue;
       // The bound where it follows from the fans alone; else the checks against the original.
-      double bound = rule_ == DistanceRule::kCheckOnly ? kUnbounded : fan_distance_bound(w, c);
-      if (bound == kUnbounded) {
-        if (rule_ == DistanceRule::kBoundOnly || !hausdorff_ok(w, c) || !near_ok(w)) continue;
-        bound = kUnbounded;
-      }
+      const double bound = rule_ == DistanceRule::kCheckOnly ? kUnbounded : fan_distance_bound(w, c);
+      if (bound == kUnbounded && (rule_ == DistanceRule::kBoundOnly || !hausdorff_ok(w, c) || !near_ok(w)))
+        continue;
       target_bound_[u] = bound;
       checked_[u] = 1;
       target_[u] = c;
