@@ -53,6 +53,10 @@ struct ViewOptions {
   double density_g_per_cm3 = 1.24;     // for the mass shown (PLA); editable on the page
   std::size_t max_triangles = 300000;  // the shown mesh is reduced to this; the printed one never is
   std::size_t output = 0;              // which pore level of the result
+  // The axis shown pointing up, 'x', 'y' or 'z' (a button on the page turns it); 0: y for an OBJ or PLY
+  // input, whose scans are mostly y up (the Stanford scans, photogrammetry, Blender's OBJ export), z for
+  // the rest (STL and 3MF for printing: the build plate's z).
+  char up = 0;
 };
 
 // The interactive viewer: one self-contained HTML file (no network) with the mesh, the holes coloured by

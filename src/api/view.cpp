@@ -1,6 +1,9 @@
 // The public API's viewer (include/poreshell/io.hpp): the result in the viewer's terms.
 
+#include <algorithm>
+#include <cctype>
 #include <span>
+#include <string>
 #include <variant>
 
 #include "core/error.hpp"
@@ -27,6 +30,19 @@ std::vector<std::vector<Vec3>> boundary_lines(const Input* input) {
   for (const Segment& s : boundary_segments(to_triangle_mesh(mesh->mesh)))
     lines.push_back({s[0] * mm, s[1] * mm});
   return lines;
+}
+
+// ViewOptions::up as the viewer's axis index (0 x, 1 y, 2 z).
+int up_axis(char up, const Input* input) {
+  if (up == 'x' || up == 'y' || up == 'z') return up - 'x';
+  if (up != 0) throw Error(ErrorCode::invalid_option, std::string("the up axis must be x, y or z"), "up");
+  std::string name;
+  if (const auto* mesh = input ? std::get_if<MeshInput>(input) : nullptr) name = mesh->name;
+  if (const auto* points = input ? std::get_if<PointsInput>(input) : nullptr) name = points->name;
+  std::string extension = std::filesystem::path(name).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension == ".obj" || extension == ".ply" ? 1 : 2;
 }
 
 TriangleMesh as_is(const Mesh& mesh) {
@@ -81,6 +97,7 @@ void save_html(const std::filesystem::path& path, const Result& result, const Op
   for (const KeepOutBox& k : options.keep_out_boxes) data.keep_out_boxes.push_back({vec(k.min), vec(k.max)});
   data.report = to_json(result.report, result.outputs);
   data.density_g_per_cm3 = view.density_g_per_cm3;
+  data.up_axis = up_axis(view.up, input);
   write_html_viewer(path, data);
 }
 

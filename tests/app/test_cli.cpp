@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #ifndef PORESHELL_EXE
@@ -151,6 +152,33 @@ TEST_F(Cli, AViewAloneNeedsNoMeshFile) {
       run("--shape sphere --radius 20 --hole-diameter 6 --spacing 10 --preview --holes h.csv -q");
   ASSERT_EQ(table.exit_code, 0) << table.err;
   EXPECT_TRUE(fs::exists(work() / "h.csv"));
+}
+
+TEST_F(Cli, ViewerStandsObjAndPlyScansOnYAndTheRestOnZ) {
+  // A 40 mm cube, as OBJ (scans' y up) and as STL (printing's z up).
+  const std::string corners[8] = {"0 0 0",  "40 0 0",  "40 40 0",  "0 40 0",
+                                  "0 0 40", "40 0 40", "40 40 40", "0 40 40"};
+  const int faces[12][3] = {{1, 3, 2}, {1, 4, 3}, {5, 6, 7}, {5, 7, 8}, {1, 2, 6}, {1, 6, 5},
+                            {2, 3, 7}, {2, 7, 6}, {3, 4, 8}, {3, 8, 7}, {4, 1, 5}, {4, 5, 8}};
+  std::ofstream obj(work() / "cube.obj"), stl(work() / "cube.stl");
+  for (const std::string& c : corners) obj << "v " << c << "\n";
+  stl << "solid cube\n";
+  for (const auto& f : faces) {
+    obj << "f " << f[0] << " " << f[1] << " " << f[2] << "\n";
+    stl << "facet normal 0 0 0\nouter loop\n";
+    for (const int v : f) stl << "vertex " << corners[v - 1] << "\n";
+    stl << "endloop\nendfacet\n";
+  }
+  stl << "endsolid cube\n";
+  obj.close();
+  stl.close();
+  for (const auto& [file, up] : {std::pair{"cube.obj", "y"}, std::pair{"cube.stl", "z"}}) {
+    const Outcome o =
+        run(std::string("--mesh ") + file + " --hole-diameter 6 --spacing 10 --preview -q --html v.html");
+    ASSERT_EQ(o.exit_code, 0) << o.err;
+    EXPECT_NE(read_file(work() / "v.html").find(std::string("\"up_axis\":\"") + up + "\""), std::string::npos)
+        << file;
+  }
 }
 
 TEST_F(Cli, InvalidValuesFailWithAMessageAndNoOutput) {
