@@ -10,6 +10,7 @@
 #include <exception>
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cli_support.hpp"
@@ -123,7 +124,14 @@ int run(int argc, char** argv) {
   if (!report.empty()) poreshell::save_report(report, r, result.outputs);
   save_views(html, png, result, options, input);
 
-  if (!command.quiet) print_summary(options, r, result.outputs, report);
+  if (!command.quiet) {
+    print_summary(options, r, result.outputs, report);
+    std::string written;  // the files besides the mesh and the report, which the summary names
+    for (const auto& [path, what] :
+         {std::pair{&holes_csv, "hole table"}, std::pair{&html, "viewer"}, std::pair{&png, "picture"}})
+      if (!path->empty()) written += (written.empty() ? "" : ", ") + *path + " (" + what + ")";
+    if (!written.empty()) fmt::print("  also     {}\n", written);
+  }
   print_warnings(options, r);
   return 0;
 }

@@ -148,6 +148,8 @@ TEST_F(Cli, AViewAloneNeedsNoMeshFile) {
   ASSERT_EQ(o.exit_code, 0) << o.err;
   EXPECT_EQ(files_in_work(), std::vector<std::string>{"v.html"});
   EXPECT_NE(o.out.find("no file (no -o)"), std::string::npos) << o.out;
+  EXPECT_NE(o.out.find("also     v.html (viewer)"), std::string::npos) << "the summary names the page:\n"
+                                                                       << o.out;
   const Outcome table =
       run("--shape sphere --radius 20 --hole-diameter 6 --spacing 10 --preview --holes h.csv -q");
   ASSERT_EQ(table.exit_code, 0) << table.err;
