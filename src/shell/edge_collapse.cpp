@@ -502,17 +502,18 @@ class Collapser {
       const double twice_area = cross(ab, ad);
       if (!(twice_area > 0.0)) return kUnbounded;
       // v0's barycentric coordinates in the new triangle.
-      const double wb = (a.y * d.x - a.x * d.y) / twice_area, wd = cross(a, b) / twice_area;
+      const double wb = cross(d, a) / twice_area, wd = cross(a, b) / twice_area;
       if (wb >= -kOnEdge && wd >= -kOnEdge && wb + wd <= 1.0 + kOnEdge) {
         covers_v0 = true;
         gap = std::max(gap, std::abs(a.h + wb * ab.h + wd * ad.h));
       }
       // The new edge a -> d (from v1; every inner one is one of these) across each spoke p0 -> s:
       // u s = a + v ad.
+      const double a_across = cross(a, ad);
       for (const Projected& s : w.spokes) {
         const double det = cross(s, ad);
         if (det == 0.0) continue;
-        const double u = cross(a, ad) / det, v = cross(a, s) / det;
+        const double u = a_across / det, v = cross(a, s) / det;
         if (u > 0.0 && u < 1.0 && v > 0.0 && v < 1.0) gap = std::max(gap, std::abs(a.h + v * ad.h - u * s.h));
       }
     }
