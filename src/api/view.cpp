@@ -1,7 +1,5 @@
 // The public API's viewer (include/poreshell/io.hpp): the result in the viewer's terms.
 
-#include <algorithm>
-#include <cctype>
 #include <span>
 #include <string>
 #include <variant>
@@ -9,6 +7,7 @@
 #include "core/error.hpp"
 #include "input/placement.hpp"
 #include "io/display_mesh.hpp"
+#include "io/file_format.hpp"
 #include "io/html_viewer.hpp"
 #include "io/report_json.hpp"
 #include "pattern/solid_zones.hpp"
@@ -35,13 +34,11 @@ std::vector<std::vector<Vec3>> boundary_lines(const Input* input) {
 // ViewOptions::up as the viewer's axis index (0 x, 1 y, 2 z).
 int up_axis(char up, const Input* input) {
   if (up == 'x' || up == 'y' || up == 'z') return up - 'x';
-  if (up != 0) throw Error(ErrorCode::invalid_option, std::string("the up axis must be x, y or z"), "up");
+  if (up != 0) throw Error(ErrorCode::invalid_option, "the up axis must be x, y or z", "up");
   std::string name;
   if (const auto* mesh = input ? std::get_if<MeshInput>(input) : nullptr) name = mesh->name;
   if (const auto* points = input ? std::get_if<PointsInput>(input) : nullptr) name = points->name;
-  std::string extension = std::filesystem::path(name).extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const std::string extension = lowercase_extension(name);
   return extension == ".obj" || extension == ".ply" ? 1 : 2;
 }
 
