@@ -41,11 +41,11 @@ std::vector<std::int32_t> opposite_corners(const TriangleMesh& mesh) {
   return opposite;
 }
 
-double min_angle_sine(const Vec3& a, const Vec3& b, const Vec3& c) {
-  const double ab = (b - a).norm(), bc = (c - b).norm(), ca = (a - c).norm();
+double min_angle_sine_squared(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const double ab = (b - a).squaredNorm(), bc = (c - b).squaredNorm(), ca = (a - c).squaredNorm();
   const double product = ab * bc * ca;
   if (!(product > 0.0)) return 0.0;
-  return (b - a).cross(c - a).norm() * std::min({ab, bc, ca}) / product;
+  return (b - a).cross(c - a).squaredNorm() * std::min({ab, bc, ca}) / product;
 }
 
 OriginalSurface::OriginalSurface(const TriangleMesh& mesh, const MeshSurface& surface,
@@ -63,17 +63,21 @@ OriginalSurface::OriginalSurface(const TriangleMesh& mesh, const MeshSurface& su
     bounds_[f] = {center, radius, classify_triangle(a, b, c)};
   });
   // Each corner weighted by its angle, so that the slivers of an isosurface mesh count for little.
+  // Summed per vertex over its triangles in ascending order: the same sums on any thread count.
   normals_.assign(mesh.vertices.size(), Vec3::Zero());
-  for (const auto& t : mesh.triangles) {
-    const std::array<Vec3, 3> p = {mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]};
-    const Vec3 n = (p[1] - p[0]).cross(p[2] - p[0]).stableNormalized();
-    for (int i = 0; i < 3; ++i) {
-      const Vec3 e1 = (p[(i + 1) % 3] - p[i]).stableNormalized();
-      const Vec3 e2 = (p[(i + 2) % 3] - p[i]).stableNormalized();
-      normals_[t[i]] += std::acos(std::clamp(e1.dot(e2), -1.0, 1.0)) * n;
+  tbb::parallel_for(std::size_t{0}, normals_.size(), [&](std::size_t v) {
+    Vec3 sum = Vec3::Zero();
+    for (const std::uint32_t f : triangles_at(static_cast<std::int32_t>(v))) {
+      const auto& t = mesh.triangles[f];
+      const int i = t[0] == static_cast<std::int32_t>(v) ? 0 : (t[1] == static_cast<std::int32_t>(v) ? 1 : 2);
+      const Vec3 &p = mesh.vertices[t[i]], &q = mesh.vertices[t[(i + 1) % 3]],
+                 &r = mesh.vertices[t[(i + 2) % 3]];
+      const Vec3 n = (q - p).cross(r - p).stableNormalized();
+      const double cosine = (q - p).stableNormalized().dot((r - p).stableNormalized());
+      sum += std::acos(std::clamp(cosine, -1.0, 1.0)) * n;
     }
-  }
-  for (Vec3& n : normals_) n = n.stableNormalized();
+    normals_[v] = sum.stableNormalized();
+  });
 }
 
 double OriginalSurface::gap(const Vec3& p, std::int32_t f) const {

@@ -25,9 +25,10 @@ inline std::int32_t previous_corner(std::int32_t c) {
 // faces: the other triangle's corner that faces the same edge.
 std::vector<std::int32_t> opposite_corners(const TriangleMesh& mesh);
 
-// Sine of the smallest angle, 2 area * shortest edge / (product of the edges): 0 for a degenerate
-// triangle, sqrt(3)/2 for an equilateral one, whatever the scale.
-double min_angle_sine(const Vec3& a, const Vec3& b, const Vec3& c);
+// Square of the sine of the smallest angle, (2 area * shortest edge / (product of the edges))^2: 0 for
+// a degenerate triangle, 3/4 for an equilateral one, whatever the scale. Squared, it needs no root:
+// the reduction compares it for every triangle it would make.
+double min_angle_sine_squared(const Vec3& a, const Vec3& b, const Vec3& c);
 
 // The original surface as the checks need it: vertex normals, and whether a point is near.
 class OriginalSurface {
