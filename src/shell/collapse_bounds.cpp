@@ -6,13 +6,18 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <stdexcept>
+#include <utility>
 
 namespace poreshell {
 namespace {
 
-constexpr int kMaxWalk = 16;  // steps across the original surface before searching all of it
+constexpr int kMaxWalk = 16;  // steps across the original surface before a best-first search
+// Triangles a best-first search looks at, at most: about a tolerance-wide patch of the original
+// around the point is a few tens.
+constexpr std::size_t kMaxVisits = 1024;
 
 }  // namespace
 
@@ -48,12 +53,8 @@ double min_angle_sine_squared(const Vec3& a, const Vec3& b, const Vec3& c) {
   return (b - a).cross(c - a).squaredNorm() * std::min({ab, bc, ca}) / product;
 }
 
-OriginalSurface::OriginalSurface(const TriangleMesh& mesh, const MeshSurface& surface,
-                                 const std::vector<std::int32_t>& opposite)
-    : mesh_(mesh),
-      surface_(surface),
-      opposite_(opposite),
-      around_(vertex_triangles(mesh.vertices.size(), mesh.triangles)) {
+OriginalSurface::OriginalSurface(const TriangleMesh& mesh, const std::vector<std::int32_t>& opposite)
+    : mesh_(mesh), opposite_(opposite), around_(vertex_triangles(mesh.vertices.size(), mesh.triangles)) {
   bounds_.resize(mesh.triangles.size());
   tbb::parallel_for(std::size_t{0}, bounds_.size(), [&](std::size_t f) {
     const auto& t = mesh.triangles[f];
@@ -121,7 +122,36 @@ bool OriginalSurface::near(const Vec3& p, std::initializer_list<std::int32_t> an
     for (int k = 0; k < 3; ++k) visit(opposite_[static_cast<std::size_t>(3 * from + k)] / 3);
     if (at == from) break;
   }
-  return best <= tolerance2 || surface_.distance_up_to(p, tolerance) <= tolerance;
+  return best <= tolerance2 || distance2_from(p, anchors, tolerance2) <= tolerance2;
+}
+
+double OriginalSurface::distance2_from(const Vec3& p, std::initializer_list<std::int32_t> anchors,
+                                       double enough2) const {
+  // (squared gap, triangle), nearest on top; the triangles seen, sorted: a few tens as a rule.
+  std::vector<std::pair<double, std::int32_t>> open;
+  std::vector<std::int32_t> seen;
+  double best = std::numeric_limits<double>::infinity();
+  const auto offer = [&](std::int32_t f) {
+    const auto at = std::lower_bound(seen.begin(), seen.end(), f);
+    if (at != seen.end() && *at == f) return;
+    seen.insert(at, f);
+    const double g = gap(p, f);
+    if (g * g >= best) return;
+    open.emplace_back(g * g, f);
+    std::push_heap(open.begin(), open.end(), std::greater<>());
+  };
+  for (const std::int32_t v : anchors)
+    for (const std::uint32_t f : triangles_at(v)) offer(static_cast<std::int32_t>(f));
+  while (!open.empty() && seen.size() <= kMaxVisits) {
+    std::pop_heap(open.begin(), open.end(), std::greater<>());
+    const auto [gap2, f] = open.back();
+    open.pop_back();
+    if (gap2 >= best) break;  // the rest are further still
+    best = std::min(best, distance2(p, f));
+    if (best <= enough2) break;
+    for (int k = 0; k < 3; ++k) offer(opposite_[static_cast<std::size_t>(3 * f + k)] / 3);
+  }
+  return best;
 }
 
 }  // namespace poreshell

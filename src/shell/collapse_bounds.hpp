@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "geometry/mesh.hpp"
-#include "geometry/mesh_surface.hpp"
+#include "geometry/mesh_surface.hpp"  // TriangleShape
 
 namespace poreshell {
 
@@ -30,21 +30,30 @@ std::vector<std::int32_t> opposite_corners(const TriangleMesh& mesh);
 // the reduction compares it for every triangle it would make.
 double min_angle_sine_squared(const Vec3& a, const Vec3& b, const Vec3& c);
 
-// The original surface as the checks need it: vertex normals, and whether a point is near.
+// The original surface as the checks need it: vertex normals, and how near a point is. Every point
+// asked about lies on a reduced triangle, whose corners are original vertices (the anchors): the
+// searches start there and go across the original's edges, so they need no tree over the whole
+// surface (building one for the bunny's 1.5 M-triangle shell took 0.7 s, a tenth of its reduction).
 class OriginalSurface {
  public:
   // `opposite` is opposite_corners(mesh); both outlive this.
-  OriginalSurface(const TriangleMesh& mesh, const MeshSurface& surface,
-                  const std::vector<std::int32_t>& opposite);
+  OriginalSurface(const TriangleMesh& mesh, const std::vector<std::int32_t>& opposite);
 
   const Vec3& normal(std::int32_t v) const { return normals_[static_cast<std::size_t>(v)]; }
 
-  // Whether p is within the tolerance of the original surface. Starts from the triangles around
-  // the anchors, original vertices next to p, and walks across edges towards p while that comes
-  // closer: the reduced triangles are a few original ones across, so that usually settles it for a
-  // fraction of the cost of searching the whole surface, which is done only where the walk gets
-  // stuck. Exact either way.
+  // Whether p is within the tolerance of the original surface. Walks from the triangles around the
+  // anchors across edges towards p while that comes closer, which settles nearly all (on the bunny
+  // 95 %); else distance2_from() settles it. Never near where the surface is not.
   bool near(const Vec3& p, std::initializer_list<std::int32_t> anchors, double tolerance) const;
+
+  // The squared distance from p to the original surface's sheet through the anchors: a best-first
+  // search from the triangles around them, across edges, never into a triangle whose bounding sphere
+  // is further than the nearest triangle found so far, and of at most kMaxVisits triangles. Never
+  // less than the distance to the whole surface; equal to it unless another sheet comes nearer (the
+  // far side of a wall thinner than the distance) or the search runs out. Stops once `enough2` is
+  // reached.
+  double distance2_from(const Vec3& p, std::initializer_list<std::int32_t> anchors,
+                        double enough2 = 0.0) const;
 
  private:
   struct Bound {
@@ -60,7 +69,6 @@ class OriginalSurface {
   }
 
   const TriangleMesh& mesh_;
-  const MeshSurface& surface_;
   const std::vector<std::int32_t>& opposite_;
   const VertexTriangles around_;
   std::vector<Bound> bounds_;

@@ -1,7 +1,8 @@
 #include "shell/mesh_decimate.hpp"
 
 // Edge collapses (edge_collapse.hpp) make the reduction; the result is then checked independently
-// with analyze_topology() and MeshSurface.
+// with analyze_topology(), a MeshSurface over the reduced mesh and searches across the original's
+// edges (OriginalSurface::distance2_from()).
 //
 // The distance bound needs both directions. The original vertices within the tolerance of the
 // reduced surface give one. Not the other: on poreshell's shells, triangles then bridge the concave
@@ -77,27 +78,28 @@ double max_distance_to(const MeshSurface& surface, const std::vector<Vec3>& poin
       [](double a, double b) { return std::max(a, b); });
 }
 
-// Vertices, edge midpoints and centroids: where a flat triangle strays furthest from a curved
-// surface, short of a dense sampling.
-std::vector<Vec3> sample_points(const TriangleMesh& mesh) {
-  std::vector<Vec3> points = mesh.vertices;
-  points.reserve(points.size() + 5 * mesh.triangles.size() / 2);
-  for (const auto& t : mesh.triangles) {
-    points.push_back((mesh.vertices[t[0]] + mesh.vertices[t[1]] + mesh.vertices[t[2]]) / 3.0);
-    for (int i = 0; i < 3; ++i)
-      if (t[i] < t[(i + 1) % 3])  // each edge of a closed oriented mesh once
-        points.push_back(0.5 * (mesh.vertices[t[i]] + mesh.vertices[t[(i + 1) % 3]]));
-  }
-  return points;
-}
-
-// Both ways: the reduced surface's sample points to the original surface, and the original
-// vertices (a dense sampling of it) to the reduced surface.
-double two_sided_distance(const MeshSurface& original_surface, const TriangleMesh& original,
-                          const TriangleMesh& reduced) {
-  const double to_original = max_distance_to(original_surface, sample_points(reduced));
-  const double to_reduced = max_distance_to(MeshSurface(reduced), original.vertices);
-  return std::max(to_original, to_reduced);
+// From the reduced surface's centroids and edge midpoints, where a flat triangle strays furthest from
+// a curved surface short of a dense sampling, to the original surface (its vertices are original
+// ones). `kept` are the reduced triangles over the original's vertices.
+double distance_to_original(const OriginalSurface& original, const TriangleMesh& mesh,
+                            const std::vector<std::array<std::int32_t, 3>>& kept) {
+  const double d2 = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, kept.size()), 0.0,
+      [&](const tbb::blocked_range<std::size_t>& r, double d) {  // d: squared
+        for (std::size_t f = r.begin(); f != r.end(); ++f) {
+          const auto& t = kept[f];
+          const Vec3 &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
+          // A search may stop once it is within the largest so far: the maximum stays exact.
+          d = std::max(d, original.distance2_from((a + b + c) / 3.0, {t[0], t[1], t[2]}, d));
+          for (int i = 0; i < 3; ++i)
+            if (const std::int32_t u = t[i], w = t[(i + 1) % 3]; u < w)  // each edge of a closed mesh once
+              d = std::max(d,
+                           original.distance2_from(0.5 * (mesh.vertices[u] + mesh.vertices[w]), {u, w}, d));
+        }
+        return d;
+      },
+      [](double a, double b) { return std::max(a, b); });
+  return std::sqrt(d2);
 }
 
 void check_result(const MeshTopology& before, const MeshTopology& after, double volume_tolerance) {
@@ -131,9 +133,8 @@ DecimateResult decimate_mesh(TriangleMesh& mesh, const DecimateOptions& options)
   // The surfaces are at most max_distance apart, so the volume between them is at most about
   // max_distance * area.
   const double volume_tolerance = options.max_distance * surface_area(mesh);
-  const MeshSurface original_surface(mesh);
   const std::vector<std::int32_t> opposite = opposite_corners(mesh);
-  const OriginalSurface original(mesh, original_surface, opposite);
+  const OriginalSurface original(mesh, opposite);
   progress.advance(0.03);
 
   double tolerance = options.max_distance;
@@ -143,11 +144,14 @@ DecimateResult decimate_mesh(TriangleMesh& mesh, const DecimateOptions& options)
     const StageProgress part = progress.part(attempt == 0 ? 0.03 : 1.0 - 0.03 * std::pow(0.5, attempt - 1),
                                              1.0 - 0.03 * std::pow(0.5, attempt));
     CollapseCounts counts;
-    TriangleMesh reduced =
-        compact(mesh, collapse_edges(mesh, opposite, original, options.max_triangles, tolerance, options.rule,
-                                     counts, part.part(0.0, 0.95)));
+    const std::vector<std::array<std::int32_t, 3>> kept =
+        collapse_edges(mesh, opposite, original, options.max_triangles, tolerance, options.rule, counts,
+                       part.part(0.0, 0.95));
+    TriangleMesh reduced = compact(mesh, kept);
     part.advance(0.96);
-    const double distance = two_sided_distance(original_surface, mesh, reduced);
+    // Both ways: the original vertices, a dense sampling of it, to the reduced surface as well.
+    const double distance = std::max(distance_to_original(original, mesh, kept),
+                                     max_distance_to(MeshSurface(reduced), mesh.vertices));
     part.advance(0.99);
     if (distance > options.max_distance) {
       tolerance *= 0.9 * options.max_distance / distance;
