@@ -33,11 +33,10 @@ constexpr double kSecondsFixed = 3.0, kSecondsPerBandVoxel = 21.7e-6;
 constexpr double kPeakFixedBytes = 50.0 * 1024 * 1024, kPeakBytesPerVoxel = 275.0;
 constexpr double kTrianglesPerShellCell = 4.8;  // per band voxel, times (h / shell spacing)^2
 // `max_triangles`: the reduction's cost per collapse (two triangles) and its structures per triangle of
-// the meshed shell, on top of the run (docs/benchmarks.md "Estimates": 324-368 bytes a triangle,
-// measured on the bunny and two spheres, and 16 more for the parallel parts' own heaps; "Triangle
-// reduction on flat arrays": one core 41-46 us a collapse on the sphere, 55-57 on the bunny; the
-// parts on 2 cores 0.54-0.68 of that).
-constexpr double kSecondsPerCollapse = 29e-6, kReductionBytesPerTriangle = 386.0;
+// the meshed shell, on top of the run (docs/benchmarks.md "Estimates", 2026-11-27: the CLI reduced
+// against unreduced, 2 cores, 9.2 us a collapse and 163 bytes a triangle on the bunny, 8.6 us and 168
+// bytes on a sphere r 30 mm).
+constexpr double kSecondsPerCollapse = 9.5e-6, kReductionBytesPerTriangle = 170.0;
 constexpr double kStlBytesPerTriangle = 50.0;
 constexpr double kStlHeaderBytes = 84.0;
 // A preview: a mesh input split as the pipeline splits it (counted, not guessed); other inputs as the

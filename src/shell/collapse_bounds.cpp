@@ -96,7 +96,13 @@ double OriginalSurface::distance2(const Vec3& p, std::int32_t f) const {
 bool OriginalSurface::near(const Vec3& p, std::initializer_list<std::int32_t> anchors,
                            double tolerance) const {
   const double tolerance2 = tolerance * tolerance;
-  std::int32_t at = -1;  // start where a bounding sphere comes nearest
+  return distance2_from(p, anchors, tolerance2) <= tolerance2;
+}
+
+double OriginalSurface::distance2_from(const Vec3& p, std::initializer_list<std::int32_t> anchors,
+                                       double enough2) const {
+  // First a walk from where a bounding sphere comes nearest, across edges while that comes closer.
+  std::int32_t at = -1;
   double least_gap = std::numeric_limits<double>::infinity();
   for (const std::int32_t v : anchors)
     for (const std::uint32_t f : triangles_at(v))
@@ -114,39 +120,36 @@ bool OriginalSurface::near(const Vec3& p, std::initializer_list<std::int32_t> an
   };
   for (const std::int32_t v : anchors)
     for (const std::uint32_t f : triangles_at(v)) {
-      if (best <= tolerance2) break;
+      if (best <= enough2) return best;
       visit(static_cast<std::int32_t>(f));
     }
-  for (int step = 0; step < kMaxWalk && best > tolerance2; ++step) {
+  for (int step = 0; step < kMaxWalk && best > enough2; ++step) {
     const std::int32_t from = at;
     for (int k = 0; k < 3; ++k) visit(opposite_[static_cast<std::size_t>(3 * from + k)] / 3);
     if (at == from) break;
   }
-  return best <= tolerance2 || distance2_from(p, anchors, tolerance2) <= tolerance2;
-}
-
-double OriginalSurface::distance2_from(const Vec3& p, std::initializer_list<std::int32_t> anchors,
-                                       double enough2) const {
-  // (squared gap, triangle), nearest on top; the triangles seen, sorted: a few tens as a rule.
+  if (best <= enough2) return best;
+  // Stuck short of `enough2`: best-first from there and from the anchors. (squared gap, triangle),
+  // nearest on top; the triangles seen, sorted: a few tens as a rule.
   std::vector<std::pair<double, std::int32_t>> open;
   std::vector<std::int32_t> seen;
-  double best = std::numeric_limits<double>::infinity();
   const auto offer = [&](std::int32_t f) {
-    const auto at = std::lower_bound(seen.begin(), seen.end(), f);
-    if (at != seen.end() && *at == f) return;
-    seen.insert(at, f);
+    const auto place = std::lower_bound(seen.begin(), seen.end(), f);
+    if (place != seen.end() && *place == f) return;
+    seen.insert(place, f);
     const double g = gap(p, f);
-    if (g * g >= best) return;
+    if (g * g >= best && f != at) return;
     open.emplace_back(g * g, f);
     std::push_heap(open.begin(), open.end(), std::greater<>());
   };
+  offer(at);
   for (const std::int32_t v : anchors)
     for (const std::uint32_t f : triangles_at(v)) offer(static_cast<std::int32_t>(f));
   while (!open.empty() && seen.size() <= kMaxVisits) {
     std::pop_heap(open.begin(), open.end(), std::greater<>());
     const auto [gap2, f] = open.back();
     open.pop_back();
-    if (gap2 >= best) break;  // the rest are further still
+    if (gap2 >= best && f != at) break;  // the rest are further still
     best = std::min(best, distance2(p, f));
     if (best <= enough2) break;
     for (int k = 0; k < 3; ++k) offer(opposite_[static_cast<std::size_t>(3 * f + k)] / 3);

@@ -57,11 +57,11 @@ struct Quadric {
 // A min-heap of vertices, each vertex's place kept so that its key can change. Keys are errors
 // rounded down to half an octave (the exponent and the first bit of the mantissa of a non-negative
 // double), then the vertex: collapses within a factor of 1.41 of each other go in vertex order, so
-// that those in one part of the mesh go one after another, while its data is in the cache. On the
-// bunny's 1.5 M triangles (docs/benchmarks.md "Bounds from the fans") that took the collapses
-// from 7.4 to 6.6 s against ordering by the exact error, at the same deviation bound, triangle
-// count and smallest angles. The key and the vertex are one integer, so a comparison reads no other
-// array.
+// that those in one part of the mesh go one after another, while its data is in the cache. The key
+// and the vertex are one integer, so a comparison reads no other array. On the bunny's 1.5 M
+// triangles that took bench_reduce from 9.7-10.3 s to 7.7 s against exact errors in a heap of
+// vertices, at the same deviation, triangle count and smallest angle (docs/benchmarks.md "The
+// reduction's loop").
 class VertexHeap {
  public:
   explicit VertexHeap(std::size_t vertices) : place_(vertices, -1) {}
@@ -160,6 +160,7 @@ class Collapser {
         dead_(mesh.triangles.size(), 0),
         quadric_(mesh.vertices.size()),
         sine_(mesh.triangles.size()),
+        shape_(mesh.triangles.size()),
         first_point_(mesh.triangles.size(), -1),
         next_point_(mesh.vertices.size(), -1),
         owner_(mesh.vertices.size(), 0),
@@ -181,6 +182,7 @@ class Collapser {
       const auto& t = mesh.triangles[f];
       const Vec3 &a = points_[t[0]], &b = points_[t[1]], &c = points_[t[2]];
       sine_[f] = min_angle_sine_squared(a, b, c);
+      shape_[f] = classify_triangle(a, b, c);
     });
     // In triangle order: the same sums on any thread count.
     for (const auto& t : mesh.triangles) {
@@ -289,7 +291,7 @@ class Collapser {
     std::vector<std::int32_t> scratch, fan_rated, fan_check, fan_kept, moved;
     std::vector<std::tuple<double, std::int32_t, std::int32_t>> candidates;  // (error, v1, corner)
     std::vector<NewTriangle> ring;
-    std::vector<Plane> ring_planes;  // of ring's triangles, for hausdorff_ok()
+    std::vector<Plane> ring_planes;  // of ring's triangles in hausdorff_ok(), of fan_kept's in collapse()
     std::vector<Projected> spokes;
     CollapseCounts counts;
   };
@@ -578,7 +580,8 @@ class Collapser {
       if (!(bound < tolerance_)) continue;
       const double reach = tolerance_ - bound;
       const Vec3 q = closest_point_on_triangle(p, point(vertex(k)), point(vertex(next_corner(k))),
-                                               point(vertex(previous_corner(k))));
+                                               point(vertex(previous_corner(k))),
+                                               shape_[static_cast<std::size_t>(k / 3)]);
       if ((q - p).squaredNorm() <= reach * reach) return true;
     }
     return false;
@@ -656,11 +659,20 @@ class Collapser {
     --valence_[static_cast<std::size_t>(vr)];
     quadric_[static_cast<std::size_t>(v1)] += quadric_[static_cast<std::size_t>(v0)];
 
+    // The changed triangles' shapes and planes: a triangle whose plane is no nearer to a point than
+    // the nearest so far cannot be nearer itself (below).
     fan(v1, w.fan_kept);
+    w.ring_planes.clear();
     for (const std::int32_t k : w.fan_kept) {
-      const std::int32_t t = k / 3;
-      sine_[static_cast<std::size_t>(t)] =
-          min_angle_sine_squared(point(vertex(3 * t)), point(vertex(3 * t + 1)), point(vertex(3 * t + 2)));
+      const auto t = static_cast<std::size_t>(k / 3);
+      const Vec3 &c0 = point(corners_[3 * t].vertex), &c1 = point(corners_[3 * t + 1].vertex),
+                 &c2 = point(corners_[3 * t + 2].vertex);
+      sine_[t] = min_angle_sine_squared(c0, c1, c2);
+      shape_[t] = classify_triangle(c0, c1, c2);
+      w.ring_planes.push_back({shape_[t] == TriangleShape::degenerate
+                                   ? Vec3::Zero()
+                                   : (c1 - c0).cross(c2 - c0).stableNormalized(),
+                               shape_[t]});
     }
     // The removed vertices on the changed triangles, and v0, each go to the nearest triangle around v1.
     w.moved.clear();
@@ -677,10 +689,13 @@ class Collapser {
     for (const std::int32_t p : w.moved) {
       double best = std::numeric_limits<double>::infinity();
       std::int32_t nearest = w.fan_kept.front() / 3;
-      for (const std::int32_t k : w.fan_kept) {
-        const std::int32_t t = k / 3;
-        const Vec3 q = closest_point_on_triangle(point(p), point(vertex(3 * t)), point(vertex(3 * t + 1)),
-                                                 point(vertex(3 * t + 2)));
+      for (std::size_t i = 0; i < w.fan_kept.size(); ++i) {
+        const std::int32_t t = w.fan_kept[i] / 3;
+        const Vec3& corner = point(vertex(3 * t));
+        const double plane = w.ring_planes[i].normal.dot(point(p) - corner);
+        if (plane * plane > best * (1.0 + 1e-9)) continue;
+        const Vec3 q = closest_point_on_triangle(point(p), corner, point(vertex(3 * t + 1)),
+                                                 point(vertex(3 * t + 2)), w.ring_planes[i].shape);
         if (const double d2 = (q - point(p)).squaredNorm(); d2 < best) {
           best = d2;
           nearest = t;
@@ -709,6 +724,7 @@ class Collapser {
   std::vector<char> dead_;                   // per triangle
   std::vector<Quadric> quadric_;             // per vertex
   std::vector<double> sine_;                 // squared, of each triangle's smallest angle, kept up to date
+  std::vector<TriangleShape> shape_;         // of each triangle, kept up to date
   // The removed vertices, each on the list of the triangle it is nearest among those it was
   // distributed over: first_point_ per triangle, next_point_ per vertex, -1 ends a list.
   std::vector<std::int32_t> first_point_, next_point_;
