@@ -38,8 +38,9 @@ struct CollapseCounts {
 
 struct DecimateResult {
   std::int64_t triangles_before = 0, triangles_after = 0;
-  // Measured afterwards, both ways: from the reduced mesh's vertices, edge midpoints and centroids
-  // to the original surface, and from the original vertices to the reduced surface.
+  // Measured afterwards, both ways: from the reduced mesh's edge midpoints and centroids to the
+  // original surface's sheet through their triangle's corners (at least the distance to the whole
+  // surface), and from the original vertices to the reduced surface.
   // Never above DecimateOptions::max_distance.
   double max_distance = 0.0;
   bool reached_target = false;  // false when the distance bound or the triangle shapes stopped it first
