@@ -10,6 +10,7 @@
 // (bench_reduce --compare; docs/benchmarks.md "Bounds from the fans").
 
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include <Eigen/Geometry>  // cross()
 #include <algorithm>
@@ -308,7 +309,8 @@ class Collapser {
     (hi - lo).maxCoeff(&axis);
     std::vector<std::int32_t> order(points_.size());
     std::iota(order.begin(), order.end(), 0);
-    std::sort(order.begin(), order.end(), [&](std::int32_t a, std::int32_t b) {
+    // A total order (ties by index): the same slabs whatever the sort does on however many threads.
+    tbb::parallel_sort(order.begin(), order.end(), [&](std::int32_t a, std::int32_t b) {
       const double pa = point(a)[axis], pb = point(b)[axis];
       return pa < pb || (pa == pb && a < b);
     });
