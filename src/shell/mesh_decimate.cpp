@@ -125,6 +125,10 @@ DecimateResult decimate_mesh(TriangleMesh& mesh, const DecimateOptions& options)
   result.reached_target = result.triangles_before <= options.max_triangles;
   if (result.reached_target) return result;
 
+  // Sorting and searching by position need numbers (no tree over the mesh checks them any more).
+  for (const Vec3& p : mesh.vertices)
+    if (!p.allFinite())
+      throw InputError("the mesh has a vertex with a NaN or infinite coordinate: repair the mesh");
   const StageProgress& progress = options.progress;
   const MeshTopology before = analyze_topology(mesh, progress.part(0.0, 0.05));
   if (const std::string problem = printability_failures(before); !problem.empty())

@@ -51,9 +51,9 @@ struct DecimateResult {
 // Reduces `mesh` in place to at most options.max_triangles triangles, as far as the distance bound
 // allows, by edge collapses onto existing vertices (every vertex kept is an original one), in a
 // deterministic order. A mesh with no more triangles than the target is left untouched.
-// Throws InputError for bad options; std::runtime_error, leaving the mesh as it was, if the input
-// is not a closed, manifold, outward oriented mesh without degenerate triangles or if the result
-// fails a check.
+// Throws InputError for bad options or a vertex coordinate that is not a finite number; std::runtime_error,
+// leaving the mesh as it was, if the input is not a closed, manifold, outward oriented mesh without
+// degenerate triangles or if the result fails a check.
 DecimateResult decimate_mesh(TriangleMesh& mesh, const DecimateOptions& options);
 
 }  // namespace poreshell

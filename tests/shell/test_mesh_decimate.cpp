@@ -363,6 +363,16 @@ TEST(MeshDecimate, RejectsBadOptions) {
   }
 }
 
+TEST(MeshDecimate, RefusesVerticesThatAreNotNumbers) {
+  for (const double bad : {std::nan(""), std::numeric_limits<double>::infinity()}) {
+    TriangleMesh mesh = torus(24, 12, 3.0, 1.0);
+    mesh.vertices[7].y() = bad;
+    const TriangleMesh original = mesh;
+    EXPECT_THROW(decimate(mesh, 100, 0.1), InputError) << bad;
+    EXPECT_EQ(mesh.triangles, original.triangles);
+  }
+}
+
 TEST(MeshDecimate, RefusesMeshThatIsNotPrintable) {
   TriangleMesh open = torus(24, 12, 3.0, 1.0);
   open.triangles.pop_back();  // a hole
