@@ -276,6 +276,11 @@ class Collapser {
   struct Plane {
     Vec3 normal;
     TriangleShape shape;
+
+    static Plane of(const Vec3& a, const Vec3& b, const Vec3& c, TriangleShape shape) {
+      return {shape == TriangleShape::degenerate ? Vec3::Zero() : (b - a).cross(c - a).stableNormalized(),
+              shape};
+    }
   };
 
   // What one sequence of collapses keeps for itself.
@@ -598,10 +603,7 @@ class Collapser {
     w.ring_planes.clear();
     for (const NewTriangle& t : w.ring) {
       const Vec3 &a = point(t[0]), &b = point(t[1]), &d = point(t[2]);
-      const TriangleShape shape = classify_triangle(a, b, d);
-      w.ring_planes.push_back(
-          {shape == TriangleShape::degenerate ? Vec3::Zero() : (b - a).cross(d - a).stableNormalized(),
-           shape});
+      w.ring_planes.push_back(Plane::of(a, b, d, classify_triangle(a, b, d)));
     }
     std::size_t last = 0;
     const auto within = [&](const Vec3& p) {
@@ -671,10 +673,7 @@ class Collapser {
                  &c2 = point(corners_[3 * t + 2].vertex);
       sine_[t] = min_angle_sine_squared(c0, c1, c2);
       shape_[t] = classify_triangle(c0, c1, c2);
-      w.ring_planes.push_back({shape_[t] == TriangleShape::degenerate
-                                   ? Vec3::Zero()
-                                   : (c1 - c0).cross(c2 - c0).stableNormalized(),
-                               shape_[t]});
+      w.ring_planes.push_back(Plane::of(c0, c1, c2, shape_[t]));
     }
     // The removed vertices on the changed triangles, and v0, each go to the nearest triangle around v1.
     w.moved.clear();
