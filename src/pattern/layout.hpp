@@ -63,7 +63,8 @@ std::vector<Vec3> even_layout(const NarrowBand& band, const Surface& surface,
 // The centres at least `clearance` from every open edge (all in grid units). A disc whose pore comes
 // nearer an open edge than half an interface width is not a hole the equation keeps: on the bunny's
 // base (8 mm holes at 14 mm) the discs centred 3.9 and 4.1 mm from its open edges closed, those
-// 4.8-5.4 mm away stayed, and nearer ones are notches cut into the edge, not holes. The layout is the
+// 5.0-5.4 mm away stayed (4.55-4.92 mm: either, by seed), and nearer ones are notches cut into the
+// edge, not holes. The layout is the
 // preview's prediction of the holes (docs/solver.md "Layout", step 5).
 std::vector<Vec3> clear_of_open_edges(std::vector<Vec3> centres, std::span<const Segment> open_edges,
                                       double clearance);
