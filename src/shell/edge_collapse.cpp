@@ -579,8 +579,9 @@ class Collapser {
 
   // Whether p is within the tolerance of the original surface by way of a triangle around v0 whose
   // own bound is known: the original surface is within that bound of every point of it. Where it
-  // says so, OriginalSurface::near() would too, at several times the cost: it starts from the
-  // anchors' triangles and walks, where these lie right under p.
+  // says so, OriginalSurface::near() would too, but it starts from the anchors' triangles and walks,
+  // where these lie right under p. On the bunny it settles half of the questions; bench_reduce with
+  // and without it in turn: 6.81-7.37 s against 6.82-7.74 s.
   bool near_old_fan(const Worker& w, const Vec3& p) const {
     for (const std::int32_t k : w.fan_check) {
       const double bound = distance_bound_[static_cast<std::size_t>(k / 3)];
