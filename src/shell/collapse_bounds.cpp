@@ -138,7 +138,7 @@ double OriginalSurface::distance2_from(const Vec3& p, std::initializer_list<std:
     if (place != seen.end() && *place == f) return;
     seen.insert(place, f);
     const double g = gap(p, f);
-    if (g * g >= best && f != at) return;
+    if (g * g > best) return;  // `at` gets in: its gap is at most its distance, which is best
     open.emplace_back(g * g, f);
     std::push_heap(open.begin(), open.end(), std::greater<>());
   };
@@ -149,7 +149,7 @@ double OriginalSurface::distance2_from(const Vec3& p, std::initializer_list<std:
     std::pop_heap(open.begin(), open.end(), std::greater<>());
     const auto [gap2, f] = open.back();
     open.pop_back();
-    if (gap2 >= best && f != at) break;  // the rest are further still
+    if (gap2 > best) break;  // the rest are further still
     best = std::min(best, distance2(p, f));
     if (best <= enough2) break;
     for (int k = 0; k < 3; ++k) offer(opposite_[static_cast<std::size_t>(3 * f + k)] / 3);
