@@ -5,12 +5,12 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <exception>
 #include <filesystem>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include "cli_support.hpp"
@@ -124,14 +124,10 @@ int run(int argc, char** argv) {
   if (!report.empty()) poreshell::save_report(report, r, result.outputs);
   save_views(html, png, result, options, input);
 
-  if (!command.quiet) {
-    print_summary(options, r, result.outputs, report);
-    std::string written;  // the files besides the mesh and the report, which the summary names
-    for (const auto& [path, what] :
-         {std::pair{&holes_csv, "hole table"}, std::pair{&html, "viewer"}, std::pair{&png, "picture"}})
-      if (!path->empty()) written += (written.empty() ? "" : ", ") + *path + " (" + what + ")";
-    if (!written.empty()) fmt::print("  also     {}\n", written);
-  }
+  if (!command.quiet)
+    print_summary(
+        options, r, result.outputs, report,
+        std::array<WrittenFile, 3>{{{holes_csv, "hole table"}, {html, "viewer"}, {png, "picture"}}});
   print_warnings(options, r);
   return 0;
 }

@@ -35,7 +35,8 @@ void print_estimate(const std::string& input_name, const poreshell::Estimate& e)
 }
 
 void print_summary(const poreshell::Options& c, const poreshell::Report& r,
-                   std::span<const poreshell::Output> outputs, const std::string& report) {
+                   std::span<const poreshell::Output> outputs, const std::string& report,
+                   std::span<const WrittenFile> others) {
   const auto& d = r.grid_dims;
   if (r.input.kind == "mesh")
     fmt::print("  input    {} vertices, {} triangles ({} degenerate dropped), {} boundary edges, {:.2f} s\n",
@@ -188,6 +189,10 @@ void print_summary(const poreshell::Options& c, const poreshell::Report& r,
         m.pores_from_euler, m.spots_at_iso);
   }
   if (!report.empty()) fmt::print("  report   {}\n", report);
+  std::string also;
+  for (const WrittenFile& f : others)
+    if (!f.path.empty()) also += (also.empty() ? "" : ", ") + f.path + " (" + f.what + ")";
+  if (!also.empty()) fmt::print("  also     {}\n", also);
 }
 
 void print_warnings(const poreshell::Options& c, const poreshell::Report& r) {

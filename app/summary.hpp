@@ -11,9 +11,17 @@
 // estimate's warnings (on stdout: a run that then fails still has one error line on stderr).
 void print_estimate(const std::string& input_name, const poreshell::Estimate& e);
 
-// The summary: input, grid, band, model, solver, pattern, time, memory, solid, holes and outputs.
+// A file the run wrote besides the meshes and the report, and what it holds ("hole table").
+struct WrittenFile {
+  std::string path;  // empty: not written
+  const char* what;
+};
+
+// The summary: input, grid, band, model, solver, pattern, time, memory, solid, holes and outputs, the
+// report and the other files written.
 void print_summary(const poreshell::Options& options, const poreshell::Report& r,
-                   std::span<const poreshell::Output> outputs, const std::string& report);
+                   std::span<const poreshell::Output> outputs, const std::string& report,
+                   std::span<const WrittenFile> others);
 
 // What the user should know before printing: an unsteady pattern, clamped grading, no pattern at all.
 void print_warnings(const poreshell::Options& options, const poreshell::Report& r);
