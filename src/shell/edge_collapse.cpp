@@ -248,11 +248,17 @@ class Collapser {
     progress.check();
   }
 
-  std::vector<std::array<std::int32_t, 3>> triangles() const {
-    std::vector<std::array<std::int32_t, 3>> out;
-    for (std::size_t f = 0; f < dead_.size(); ++f)
-      if (!dead_[f])
-        out.push_back({corners_[3 * f].vertex, corners_[3 * f + 1].vertex, corners_[3 * f + 2].vertex});
+  CollapsedMesh result() const {
+    CollapsedMesh out;
+    out.carrier.assign(points_.size(), -1);
+    for (std::size_t f = 0; f < dead_.size(); ++f) {
+      if (dead_[f]) continue;
+      const auto index = static_cast<std::int32_t>(out.triangles.size());
+      for (std::int32_t p = first_point_[f]; p >= 0; p = next_point_[static_cast<std::size_t>(p)])
+        out.carrier[static_cast<std::size_t>(p)] = index;
+      out.triangles.push_back(
+          {corners_[3 * f].vertex, corners_[3 * f + 1].vertex, corners_[3 * f + 2].vertex});
+    }
     return out;
   }
 
@@ -742,15 +748,12 @@ class Collapser {
 
 }  // namespace
 
-std::vector<std::array<std::int32_t, 3>> collapse_edges(const TriangleMesh& mesh,
-                                                        const std::vector<std::int32_t>& opposite,
-                                                        const OriginalSurface& original,
-                                                        std::int64_t max_triangles, double tolerance,
-                                                        DistanceRule rule, CollapseCounts& counts,
-                                                        const StageProgress& progress) {
+CollapsedMesh collapse_edges(const TriangleMesh& mesh, const std::vector<std::int32_t>& opposite,
+                             const OriginalSurface& original, std::int64_t max_triangles, double tolerance,
+                             DistanceRule rule, CollapseCounts& counts, const StageProgress& progress) {
   Collapser collapser(mesh, opposite, original, tolerance, rule);
   collapser.run(static_cast<std::size_t>(max_triangles), counts, progress);
-  return collapser.triangles();
+  return collapser.result();
 }
 
 }  // namespace poreshell

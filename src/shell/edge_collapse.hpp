@@ -22,15 +22,20 @@
 
 namespace poreshell {
 
-// The triangles of `mesh` left after collapsing edges until at most max_triangles remain or no
-// collapse passes the rules, as indices into mesh.vertices, in their original order. `opposite` is
-// opposite_corners(mesh); `original` is built over mesh and opposite. Deterministic. Adds the
-// collapses made to `counts`.
-std::vector<std::array<std::int32_t, 3>> collapse_edges(const TriangleMesh& mesh,
-                                                        const std::vector<std::int32_t>& opposite,
-                                                        const OriginalSurface& original,
-                                                        std::int64_t max_triangles, double tolerance,
-                                                        DistanceRule rule, CollapseCounts& counts,
-                                                        const StageProgress& progress);
+// What the collapses leave: the triangles, as indices into the original's vertices, in their original
+// order; and for each original vertex the triangle (an index into `triangles`) it was last distributed
+// over, -1 for the vertices the triangles keep. A removed vertex's distance to that triangle bounds its
+// distance to the reduced surface.
+struct CollapsedMesh {
+  std::vector<std::array<std::int32_t, 3>> triangles;
+  std::vector<std::int32_t> carrier;
+};
+
+// Collapses edges of `mesh` until at most max_triangles remain or no collapse passes the rules.
+// `opposite` is opposite_corners(mesh); `original` is built over mesh and opposite. Deterministic. Adds
+// the collapses made to `counts`.
+CollapsedMesh collapse_edges(const TriangleMesh& mesh, const std::vector<std::int32_t>& opposite,
+                             const OriginalSurface& original, std::int64_t max_triangles, double tolerance,
+                             DistanceRule rule, CollapseCounts& counts, const StageProgress& progress);
 
 }  // namespace poreshell

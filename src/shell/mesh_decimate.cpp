@@ -1,8 +1,11 @@
 #include "shell/mesh_decimate.hpp"
 
-// Edge collapses (edge_collapse.hpp) make the reduction; the result is then checked independently
-// with analyze_topology(), a MeshSurface over the reduced mesh and searches across the original's
-// edges (OriginalSurface::distance2_from()).
+// Edge collapses (edge_collapse.hpp) make the reduction; the result is then checked with
+// analyze_topology(), searches across the original's edges (OriginalSurface::distance2_from()) and,
+// for the original vertices, their distance to the triangle each was last distributed over, with a
+// MeshSurface over the reduced mesh for any whose distance that does not settle. On the bunny's shell
+// (1.5 M -> 200 k triangles, 0.05 mm) that settles them all: 0.02 s instead of 0.26-0.33 s with a
+// tree over the reduced mesh and a query per vertex.
 //
 // The distance bound needs both directions. The original vertices within the tolerance of the
 // reduced surface give one. Not the other: on poreshell's shells, triangles then bridge the concave
@@ -66,16 +69,33 @@ TriangleMesh compact(const TriangleMesh& original,
   return reduced;
 }
 
-// Largest distance from the points to the surface. A maximum is exact in any order, so the
-// parallel reduction gives the same answer on any number of threads.
-double max_distance_to(const MeshSurface& surface, const std::vector<Vec3>& points) {
-  return tbb::parallel_reduce(
-      tbb::blocked_range<std::size_t>(0, points.size()), 0.0,
-      [&](const tbb::blocked_range<std::size_t>& r, double d) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i) d = std::max(d, surface.distance(points[i]));
-        return d;
-      },
-      [](double a, double b) { return std::max(a, b); });
+// The largest distance from the original's vertices to the reduced surface where it exceeds `floor`;
+// else a value no larger than floor. A removed vertex's distance to the triangle it was last distributed
+// over bounds its distance to the surface, so only vertices whose bound exceeds floor are searched for,
+// over a tree built only then. A maximum is exact in any order: the same on any number of threads.
+double distance_from_original_vertices(const TriangleMesh& original, const TriangleMesh& reduced,
+                                       const std::vector<std::int32_t>& carrier, double floor) {
+  const auto bound = [&](std::size_t v) {
+    if (carrier[v] < 0) return 0.0;  // a vertex of the reduced surface
+    const auto& t = reduced.triangles[static_cast<std::size_t>(carrier[v])];
+    const Vec3 &a = reduced.vertices[t[0]], &b = reduced.vertices[t[1]], &c = reduced.vertices[t[2]];
+    return (closest_point_on_triangle(original.vertices[v], a, b, c, classify_triangle(a, b, c)) -
+            original.vertices[v])
+        .norm();
+  };
+  const auto largest = [&](const auto& distance) {  // of distance(v) over the original's vertices
+    return tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, carrier.size()), 0.0,
+        [&](const tbb::blocked_range<std::size_t>& r, double d) {
+          for (std::size_t v = r.begin(); v != r.end(); ++v) d = std::max(d, distance(v));
+          return d;
+        },
+        [](double a, double b) { return std::max(a, b); });
+  };
+  if (largest(bound) <= floor) return floor;
+  const MeshSurface surface(reduced);
+  return largest(
+      [&](std::size_t v) { return bound(v) > floor ? surface.distance(original.vertices[v]) : 0.0; });
 }
 
 // From the reduced surface's centroids and edge midpoints, where a flat triangle strays furthest from
@@ -148,14 +168,14 @@ DecimateResult decimate_mesh(TriangleMesh& mesh, const DecimateOptions& options)
     const StageProgress part = progress.part(attempt == 0 ? 0.03 : 1.0 - 0.03 * std::pow(0.5, attempt - 1),
                                              1.0 - 0.03 * std::pow(0.5, attempt));
     CollapseCounts counts;
-    const std::vector<std::array<std::int32_t, 3>> kept =
-        collapse_edges(mesh, opposite, original, options.max_triangles, tolerance, options.rule, counts,
-                       part.part(0.0, 0.95));
-    TriangleMesh reduced = compact(mesh, kept);
+    const CollapsedMesh collapsed = collapse_edges(mesh, opposite, original, options.max_triangles, tolerance,
+                                                   options.rule, counts, part.part(0.0, 0.95));
+    TriangleMesh reduced = compact(mesh, collapsed.triangles);
     part.advance(0.96);
     // Both ways: the original vertices, a dense sampling of it, to the reduced surface as well.
-    const double distance = std::max(distance_to_original(original, mesh, kept),
-                                     max_distance_to(MeshSurface(reduced), mesh.vertices));
+    const double to_original = distance_to_original(original, mesh, collapsed.triangles);
+    const double distance =
+        std::max(to_original, distance_from_original_vertices(mesh, reduced, collapsed.carrier, to_original));
     part.advance(0.99);
     if (distance > options.max_distance) {
       tolerance *= 0.9 * options.max_distance / distance;
