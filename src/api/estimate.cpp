@@ -34,9 +34,9 @@ constexpr double kPeakFixedBytes = 50.0 * 1024 * 1024, kPeakBytesPerVoxel = 275.
 constexpr double kTrianglesPerShellCell = 4.8;  // per band voxel, times (h / shell spacing)^2
 // `max_triangles`: the reduction's cost per collapse (two triangles) and its structures per triangle of
 // the meshed shell, on top of the run (docs/benchmarks.md "Estimates", 2026-11-27: the CLI reduced
-// against unreduced, 2 cores, 9.2 us a collapse and 163 bytes a triangle on the bunny, 8.6 us and 168
-// bytes on a sphere r 30 mm).
-constexpr double kSecondsPerCollapse = 9.5e-6, kReductionBytesPerTriangle = 170.0;
+// against unreduced, 2 cores, 5.8-7.6 us a collapse and 169 bytes a triangle on the bunny, 5.9-6.5 us
+// and 164 bytes on a sphere r 30 mm).
+constexpr double kSecondsPerCollapse = 7.0e-6, kReductionBytesPerTriangle = 170.0;
 constexpr double kStlBytesPerTriangle = 50.0;
 constexpr double kStlHeaderBytes = 84.0;
 // A preview: a mesh input split as the pipeline splits it (counted, not guessed); other inputs as the

@@ -112,7 +112,7 @@ TEST(Estimate, AReductionAddsItsTimeAndMemory) {
   EXPECT_LT(reduced.stl_bytes, whole.stl_bytes);
   // 47 M triangles held by the decimater: gigabytes, not the band's hundreds of megabytes; and the
   // collapses' time, at least 6 us for each (two triangles; the calibration machine's 2 cores take
-  // about 9, docs/benchmarks.md "Estimates").
+  // about 7, docs/benchmarks.md "Estimates").
   EXPECT_GT(reduced.peak_bytes, whole.peak_bytes + 100.0 * whole.triangles);
   EXPECT_GT(reduced.seconds, whole.seconds + 3e-6 * whole.triangles);
   EXPECT_FALSE(any_warning_has(whole, "minutes"))
