@@ -76,7 +76,7 @@ TriangleMesh compact(const TriangleMesh& original,
 double distance_from_original_vertices(const TriangleMesh& original, const TriangleMesh& reduced,
                                        const std::vector<std::int32_t>& carrier, double floor) {
   const auto bound = [&](std::size_t v) {
-    if (carrier[v] < 0) return 0.0;  // a vertex of the reduced surface
+    if (carrier[v] < 0) return 0.0;  // a vertex of the reduced triangles, or of no triangle at all
     const auto& t = reduced.triangles[static_cast<std::size_t>(carrier[v])];
     const Vec3 &a = reduced.vertices[t[0]], &b = reduced.vertices[t[1]], &c = reduced.vertices[t[2]];
     return (closest_point_on_triangle(original.vertices[v], a, b, c, classify_triangle(a, b, c)) -

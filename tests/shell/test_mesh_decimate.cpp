@@ -310,6 +310,20 @@ TEST(MeshDecimate, FlatFacesOfACubeCollapseExactly) {
   EXPECT_NEAR(analyze_topology(mesh).signed_volume, 1.0, 1e-12);
 }
 
+// A vertex no triangle uses is not part of the surface: it neither stops the reduction nor counts in
+// the distance measured (the search over the result measured every vertex, and one 10 units off made
+// every attempt overshoot).
+TEST(MeshDecimate, AVertexNoTriangleUsesIsNotMeasured) {
+  const TriangleMesh surface = torus(60, 20, 3.0, 1.0);
+  TriangleMesh mesh = surface;
+  mesh.vertices.emplace_back(10.0, 10.0, 10.0);
+  const DecimateOptions options{600, 0.05};
+  const DecimateResult result = decimate_mesh(mesh, options);
+  EXPECT_TRUE(result.reached_target);
+  EXPECT_LE(result.max_distance, options.max_distance);
+  expect_faithful(surface, mesh, options, result);
+}
+
 TEST(MeshDecimate, DistanceBoundStopsBeforeTarget) {
   const TriangleMesh original = torus(60, 20, 3.0, 1.0);
   TriangleMesh mesh = original;
