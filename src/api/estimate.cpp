@@ -18,16 +18,22 @@
 #include "pipeline/pipeline.hpp"
 #include "poreshell/poreshell.hpp"
 #include "shell/shell.hpp"
+#include "solver/solve.hpp"
 
 namespace poreshell {
 namespace {
 
-// docs/benchmarks.md, "Estimates": fits to the whole-run times of the bunny series there (2 threads,
-// quiet hours). With epsilon tied to h (no hole size asked) the pores shrink with the voxels and the steps
-// grow: t = 5.5 s (V / 133k)^1.67. With holes in mm the pattern's scale is fixed (and formed on a coarser
-// grid where the voxels are finer): t = 3 s + 21.7 us V.
+// docs/benchmarks.md, "Estimates": fits to the CLI's wall times (2 threads, quiet hours). With epsilon
+// tied to h (no hole size asked) the pores shrink with the voxels and the steps grow: t = 5.5 s (V /
+// 133k)^1.67 through the bunny series. With holes in mm the equation starts from the even layout and
+// takes some 20-40 steps whatever the grid, so the time follows the band: t = 0.1 s + 10.5 us V for
+// the analytic shapes, 0.3 s + 21 us V for meshes (closest points on the mesh for every band voxel and
+// shell sample), and 21.3 s (V / 644k)^1.41 for point clouds (the surface made from the points).
 constexpr double kSecondsAtReference = 5.5, kReferenceVoxels = 133356.0, kVoxelExponent = 1.67;
-constexpr double kSecondsFixed = 3.0, kSecondsPerBandVoxel = 21.7e-6;
+constexpr double kShapeSecondsFixed = 0.1, kShapeSecondsPerBandVoxel = 10.5e-6;
+constexpr double kMeshSecondsFixed = 0.3, kMeshSecondsPerBandVoxel = 21e-6;
+constexpr double kPointsSecondsAtReference = 21.3, kPointsReferenceVoxels = 644e3,
+                 kPointsVoxelExponent = 1.41;
 // Peak resident memory of the bunny series at bc095dd: 89, 183, 659 and 1656 MiB at 133k-6.05M band
 // voxels. (`max_memory_gb` is checked against the cautious 1300 B a voxel of band/memory_estimate.hpp.)
 constexpr double kPeakFixedBytes = 50.0 * 1024 * 1024, kPeakBytesPerVoxel = 275.0;
@@ -43,10 +49,14 @@ constexpr double kStlHeaderBytes = 84.0;
 // band's slab {|psi| < h} meshed on the band's grid, about 4.8 triangles per band voxel (the bunny's
 // points, 8 mm holes at 14 mm: 790,948 from 163,539). Written as PLY with a colour per vertex (12 + 3
 // bytes a vertex, 13 a triangle, half as many vertices as triangles: 20.5 bytes a triangle).
-// Its time: no solve, about linear in the band: the CLI's wall time, bunny previews of 0.16, 0.38 and
-// 1.26 M estimated band voxels, 2 threads (docs/benchmarks.md "Estimates").
+// Its time, linear in the band (the CLI's wall time, 2 threads, docs/benchmarks.md "Estimates"): from the
+// even layout (no solve) 0.02 s + 3.0 us V for the shapes (spheres of 25-100 mm) and 0.2 s + 5.3 us V for
+// point clouds (the bunny's points, 8 / 14, 6 / 10 and 4 / 7 mm); a preview that runs the equation
+// (`layout` paper) 0.8 s + 8.4 us V, through bunny previews of 0.16, 0.38 and 1.26 M band voxels.
 constexpr double kPreviewTrianglesPerVoxel = 4.84, kPlyBytesPerTriangle = 20.5;
-constexpr double kPreviewSecondsFixed = 0.8, kPreviewSecondsPerVoxel = 8.4e-6;
+constexpr double kShapePreviewSecondsFixed = 0.02, kShapePreviewSecondsPerVoxel = 3.0e-6;
+constexpr double kPointsPreviewSecondsFixed = 0.2, kPointsPreviewSecondsPerVoxel = 5.3e-6;
+constexpr double kSolvedPreviewSecondsFixed = 0.8, kSolvedPreviewSecondsPerVoxel = 8.4e-6;
 // A mesh's preview builds only the band's surface layer, {|psi| < h} of {|psi| < delta}: h / delta of the
 // band (the bunny at 8 / 14, 5 / 9 and 3 / 5 mm: 0.528-0.538 of its band, 0.538-0.553 of the band
 // estimated). Time and peak memory per layer voxel, fitted through the CLI's wall time and peak RSS of
@@ -107,8 +117,16 @@ Estimate estimate_prepared(const Input& input, const PreparedInput& prepared) {
   }
   e.band_voxels = band.voxels;
   e.peak_bytes = kPeakFixedBytes + kPeakBytesPerVoxel * band.voxels;
-  e.seconds = plan ? kSecondsFixed + kSecondsPerBandVoxel * band.voxels
-                   : kSecondsAtReference * std::pow(band.voxels / kReferenceVoxels, kVoxelExponent);
+  const bool shape = placed.input.kind == "shape", points = placed.input.kind == "points";
+  if (!plan)
+    e.seconds = kSecondsAtReference * std::pow(band.voxels / kReferenceVoxels, kVoxelExponent);
+  else if (shape)
+    e.seconds = kShapeSecondsFixed + kShapeSecondsPerBandVoxel * band.voxels;
+  else if (points)
+    e.seconds =
+        kPointsSecondsAtReference * std::pow(band.voxels / kPointsReferenceVoxels, kPointsVoxelExponent);
+  else
+    e.seconds = kMeshSecondsFixed + kMeshSecondsPerBandVoxel * band.voxels;
   const double wall_mm = options.mode == Mode::shell && options.wall > 0.0
                              ? options.wall
                              : 2.0 * BandOptions{}.delta_in_h * e.voxel_size_mm;
@@ -129,8 +147,11 @@ Estimate estimate_prepared(const Input& input, const PreparedInput& prepared) {
       e.band_voxels = band.voxels / BandOptions{}.delta_in_h;
       e.seconds = kLayerSecondsFixed + kLayerSecondsPerVoxel * e.band_voxels;
       e.peak_bytes = kLayerPeakFixedBytes + kLayerPeakBytesPerVoxel * e.band_voxels;
+    } else if (resolve_layout(options, plan.has_value()) != Layout::cvt) {
+      e.seconds = kSolvedPreviewSecondsFixed + kSolvedPreviewSecondsPerVoxel * band.voxels;
     } else {
-      e.seconds = kPreviewSecondsFixed + kPreviewSecondsPerVoxel * band.voxels;
+      e.seconds = shape ? kShapePreviewSecondsFixed + kShapePreviewSecondsPerVoxel * band.voxels
+                        : kPointsPreviewSecondsFixed + kPointsPreviewSecondsPerVoxel * band.voxels;
     }
     e.triangles = placed.mesh
                       ? static_cast<double>(preview_surface_mesh(*placed.mesh, grid.h()).triangles.size())

@@ -103,14 +103,14 @@ TEST(Estimate, ATinyModelGetsTheUnitThatMakesItAUsualSize) {
 // `max_triangles` caps the output but costs a collapse per two triangles removed and the reduction's
 // structures: a big shell reduced hard is a long run, and the estimate warns before it starts.
 TEST(Estimate, AReductionAddsItsTimeAndMemory) {
-  const Input input = sphere(300.0);  // about 47 million triangles meshed
+  const Input input = sphere(400.0);  // about 84 million triangles meshed
   Options o = holes(6.0, 10.0);
   const Estimate whole = estimate(input, o);
   o.max_triangles = 100000;
   const Estimate reduced = estimate(input, o);
   EXPECT_EQ(reduced.triangles, 100000.0);
   EXPECT_LT(reduced.stl_bytes, whole.stl_bytes);
-  // 47 M triangles held by the decimater: gigabytes, not the band's hundreds of megabytes; and the
+  // 84 M triangles held by the decimater: gigabytes, not the band's hundreds of megabytes; and the
   // collapses' time, at least 6 us for each (two triangles; the calibration machine's 2 cores take
   // about 7, docs/benchmarks.md "Estimates").
   EXPECT_GT(reduced.peak_bytes, whole.peak_bytes + 100.0 * whole.triangles);
