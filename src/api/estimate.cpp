@@ -52,7 +52,8 @@ constexpr double kStlHeaderBytes = 84.0;
 // Its time, linear in the band (the CLI's wall time, 2 threads, docs/benchmarks.md "Estimates"): from the
 // even layout (no solve) 0.02 s + 3.0 us V for the shapes (spheres of 25-100 mm) and 0.2 s + 5.3 us V for
 // point clouds (the bunny's points, 8 / 14, 6 / 10 and 4 / 7 mm); a preview that runs the equation
-// (`layout` paper) 0.8 s + 8.4 us V, through bunny previews of 0.16, 0.38 and 1.26 M band voxels.
+// (`layout` paper) 0.8 s + 8.4 us V, the older fit through bunny previews of 0.16, 0.38 and 1.26 M band
+// voxels, not measured again.
 constexpr double kPreviewTrianglesPerVoxel = 4.84, kPlyBytesPerTriangle = 20.5;
 constexpr double kShapePreviewSecondsFixed = 0.02, kShapePreviewSecondsPerVoxel = 3.0e-6;
 constexpr double kPointsPreviewSecondsFixed = 0.2, kPointsPreviewSecondsPerVoxel = 5.3e-6;
