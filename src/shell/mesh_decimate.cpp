@@ -69,10 +69,24 @@ TriangleMesh compact(const TriangleMesh& original,
   return reduced;
 }
 
+// The largest of grow(i, d) over i < count, where grow returns the larger of d (the largest so far) and
+// the value at i, and may stop a search once that is within d. A maximum is exact in any order: the
+// same on any number of threads.
+template <class Grow>
+double largest_over(std::size_t count, const Grow& grow) {
+  return tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, count), 0.0,
+      [&](const tbb::blocked_range<std::size_t>& r, double d) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) d = grow(i, d);
+        return d;
+      },
+      [](double a, double b) { return std::max(a, b); });
+}
+
 // The largest distance from the original's vertices to the reduced surface where it exceeds `floor`;
 // else a value no larger than floor. A removed vertex's distance to the triangle it was last distributed
 // over bounds its distance to the surface, so only vertices whose bound exceeds floor are searched for,
-// over a tree built only then. A maximum is exact in any order: the same on any number of threads.
+// over a tree built only then.
 double distance_from_original_vertices(const TriangleMesh& original, const TriangleMesh& reduced,
                                        const std::vector<std::int32_t>& carrier, double floor) {
   const auto bound = [&](std::size_t v) {
@@ -83,19 +97,12 @@ double distance_from_original_vertices(const TriangleMesh& original, const Trian
             original.vertices[v])
         .norm();
   };
-  const auto largest = [&](const auto& distance) {  // of distance(v) over the original's vertices
-    return tbb::parallel_reduce(
-        tbb::blocked_range<std::size_t>(0, carrier.size()), 0.0,
-        [&](const tbb::blocked_range<std::size_t>& r, double d) {
-          for (std::size_t v = r.begin(); v != r.end(); ++v) d = std::max(d, distance(v));
-          return d;
-        },
-        [](double a, double b) { return std::max(a, b); });
-  };
-  if (largest(bound) <= floor) return floor;
+  if (largest_over(carrier.size(), [&](std::size_t v, double d) { return std::max(d, bound(v)); }) <= floor)
+    return floor;
   const MeshSurface surface(reduced);
-  return largest(
-      [&](std::size_t v) { return bound(v) > floor ? surface.distance(original.vertices[v]) : 0.0; });
+  return largest_over(carrier.size(), [&](std::size_t v, double d) {
+    return bound(v) > floor ? std::max(d, surface.distance(original.vertices[v])) : d;
+  });
 }
 
 // From the reduced surface's centroids and edge midpoints, where a flat triangle strays furthest from
@@ -103,22 +110,16 @@ double distance_from_original_vertices(const TriangleMesh& original, const Trian
 // ones). `kept` are the reduced triangles over the original's vertices.
 double distance_to_original(const OriginalSurface& original, const TriangleMesh& mesh,
                             const std::vector<std::array<std::int32_t, 3>>& kept) {
-  const double d2 = tbb::parallel_reduce(
-      tbb::blocked_range<std::size_t>(0, kept.size()), 0.0,
-      [&](const tbb::blocked_range<std::size_t>& r, double d) {  // d: squared
-        for (std::size_t f = r.begin(); f != r.end(); ++f) {
-          const auto& t = kept[f];
-          const Vec3 &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
-          // A search may stop once it is within the largest so far: the maximum stays exact.
-          d = std::max(d, original.distance2_from((a + b + c) / 3.0, {t[0], t[1], t[2]}, d));
-          for (int i = 0; i < 3; ++i)
-            if (const std::int32_t u = t[i], w = t[(i + 1) % 3]; u < w)  // each edge of a closed mesh once
-              d = std::max(d,
-                           original.distance2_from(0.5 * (mesh.vertices[u] + mesh.vertices[w]), {u, w}, d));
-        }
-        return d;
-      },
-      [](double a, double b) { return std::max(a, b); });
+  const double d2 = largest_over(kept.size(), [&](std::size_t f, double d) {  // d: squared
+    const auto& t = kept[f];
+    const Vec3 &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
+    // A search may stop once it is within the largest so far: the maximum stays exact.
+    d = std::max(d, original.distance2_from((a + b + c) / 3.0, {t[0], t[1], t[2]}, d));
+    for (int i = 0; i < 3; ++i)
+      if (const std::int32_t u = t[i], w = t[(i + 1) % 3]; u < w)  // each edge of a closed mesh once
+        d = std::max(d, original.distance2_from(0.5 * (mesh.vertices[u] + mesh.vertices[w]), {u, w}, d));
+    return d;
+  });
   return std::sqrt(d2);
 }
 
