@@ -15,7 +15,6 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
-#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -24,7 +23,9 @@
 #include <numbers>
 #include <string>
 
+#include "geometry/mesh.hpp"
 #include "io/mesh_io.hpp"
+#include "shell/collapse_bounds.hpp"
 #include "shell/mesh_decimate.hpp"
 
 int main(int argc, char** argv) {
@@ -65,18 +66,12 @@ int main(int argc, char** argv) {
                1e6 * seconds / collapses, result.max_distance);
     // The shapes, which the collapses' order changes (the rules hold them above 10 degrees but where
     // they replace a sharper triangle): the smallest angle, and how many triangles have one under 10.
-    double least = 180.0;
+    const double least = analyze_topology(mesh).min_angle_degrees;
+    const double sine_10 = std::sin(10.0 * std::numbers::pi / 180.0);
     std::int64_t under_10 = 0;
-    for (const auto& t : mesh.triangles) {
-      const Vec3 &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
-      double smallest = 180.0;
-      for (const auto& [p, q, r] : {std::array{a, b, c}, std::array{b, c, a}, std::array{c, a, b}})
-        smallest = std::min(smallest,
-                            std::acos(std::clamp((q - p).normalized().dot((r - p).normalized()), -1.0, 1.0)) *
-                                180.0 / std::numbers::pi);
-      least = std::min(least, smallest);
-      under_10 += smallest < 10.0;
-    }
+    for (const auto& t : mesh.triangles)
+      under_10 += min_angle_sine_squared(mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]) <
+                  sine_10 * sine_10;
     fmt::print("smallest angle {:.2f} deg, {} under 10 deg, ", least, under_10);
     fmt::print("collapses bounded {} checked {}, output hash {:x}\n", result.collapses.bounded,
                result.collapses.checked, hash);
