@@ -180,7 +180,8 @@ std::size_t BandMultigrid::memory_bytes() const {
   std::size_t bytes = 0;
   for (const Level& l : levels_) {
     if (l.owned) bytes += l.owned->memory_bytes();
-    bytes += (l.inverse_diagonal_base.capacity() + l.x.capacity() + l.colours[0].capacity() +
+    bytes += (l.inverse_diagonal_base.capacity() + l.relaxation[0].inverse_diagonal.capacity() +
+              l.relaxation[1].inverse_diagonal.capacity() + l.x.capacity() + l.colours[0].capacity() +
               l.colours[1].capacity() + l.b.capacity() + l.r.capacity() + l.averaged.capacity()) *
                  sizeof(float) +
              l.from_finer.memory_bytes() + l.to_coarser.memory_bytes();
@@ -201,19 +202,37 @@ std::size_t BandMultigrid::last_level_for(double z) const {
 double BandMultigrid::residual(Level& level, double z) {
   const NarrowBand& band = *level.band;
   band.fill_ghosts(level.x);
-  const double inv_h2 = 1.0 / (band.grid().h() * band.grid().h());
+  const auto inv_h2 = static_cast<float>(1.0 / (band.grid().h() * band.grid().h()));
+  const auto zf = static_cast<float>(z);
   return parallel_max(band.size(), [&](std::size_t v) {
-    double sum = 0.0;
+    float sum = 0.0f;
     for (int k = 0; k < NarrowBand::kNeighbors; ++k) sum += level.x[band.neighbor(v, k)];
-    const double r = level.b[v] - (z * level.x[v] - (sum - 6.0 * level.x[v]) * inv_h2);
-    level.r[v] = static_cast<float>(r);
-    return std::abs(r);
+    const float xv = level.x[v];
+    const float r = level.b[v] - (zf * xv - (sum - 6.0f * xv) * inv_h2);
+    level.r[v] = r;
+    return static_cast<double>(std::abs(r));
   });
+}
+
+const std::vector<float>& BandMultigrid::Level::inverse_diagonal(double z) {
+  for (Relaxation& cached : relaxation)
+    if (cached.z == z && !cached.inverse_diagonal.empty()) return cached.inverse_diagonal;
+  std::swap(relaxation[0], relaxation[1]);
+  Relaxation& fresh = relaxation[0];
+  fresh.z = z;
+  fresh.inverse_diagonal.resize(inverse_diagonal_base.size());
+  const double inv_h2 = 1.0 / (band->grid().h() * band->grid().h());
+  for_each_index(fresh.inverse_diagonal.size(), [&](std::size_t v) {
+    fresh.inverse_diagonal[v] = static_cast<float>(1.0 / (z + inverse_diagonal_base[v] * inv_h2));
+  });
+  return fresh.inverse_diagonal;
 }
 
 void BandMultigrid::smooth(Level& level, double z, int sweeps) {
   const NarrowBand& band = *level.band;
-  const double inv_h2 = 1.0 / (band.grid().h() * band.grid().h());
+  const auto inv_h2 = static_cast<float>(1.0 / (band.grid().h() * band.grid().h()));
+  const auto zf = static_cast<float>(z);
+  const std::vector<float>& inverse_diagonal = level.inverse_diagonal(z);
   for (int s = 0; s < sweeps; ++s)
     for (int colour = 0; colour < 2; ++colour) {
       // A voxel's 6 neighbours have the other parity: only those ghosts need fresh values.
@@ -221,10 +240,11 @@ void BandMultigrid::smooth(Level& level, double z, int sweeps) {
       const auto& set = level.colours[colour];
       for_each_index(set.size(), [&](std::size_t i) {
         const std::size_t v = set[i];
-        double sum = 0.0;
+        float sum = 0.0f;
         for (int k = 0; k < NarrowBand::kNeighbors; ++k) sum += level.x[band.neighbor(v, k)];
-        const double r = level.b[v] - (z * level.x[v] - (sum - 6.0 * level.x[v]) * inv_h2);
-        level.x[v] += static_cast<float>(r / (z + level.inverse_diagonal_base[v] * inv_h2));
+        const float xv = level.x[v];
+        const float r = level.b[v] - (zf * xv - (sum - 6.0f * xv) * inv_h2);
+        level.x[v] = xv + r * inverse_diagonal[v];
       });
     }
 }
@@ -250,9 +270,9 @@ void BandMultigrid::v_cycle(std::size_t l, std::size_t last, double z) {
   const NarrowBand& band = *fine.band;
   band.fill_ghosts(fine.r);
   for_each_index(band.size(), [&](std::size_t v) {
-    double sum = 0.0;
+    float sum = 0.0f;
     for (int k = 0; k < NarrowBand::kNeighbors; ++k) sum += fine.r[band.neighbor(v, k)];
-    fine.averaged[v] = static_cast<float>(0.5 * fine.r[v] + sum / 12.0);
+    fine.averaged[v] = 0.5f * fine.r[v] + sum * (1.0f / 12.0f);
   });
   Level& coarse = levels_[l + 1];
   for_each_index(coarse.band->size(),

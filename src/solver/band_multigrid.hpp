@@ -93,6 +93,14 @@ class BandMultigrid {
     std::unique_ptr<NarrowBand> owned;  // coarse levels own their band; level 0 borrows the fine one
     const NarrowBand* band = nullptr;
     std::vector<float> inverse_diagonal_base;  // 6 - self weight: h^2 (diagonal - z)
+    // 1 / diagonal of z - L for the last two shifts (a step alternates two): smoothing multiplies
+    // instead of dividing.
+    struct Relaxation {
+      double z = 0.0;
+      std::vector<float> inverse_diagonal;
+    };
+    Relaxation relaxation[2];
+    const std::vector<float>& inverse_diagonal(double z);
     std::vector<std::uint32_t>
         colours[2];                // red-black sets, (i + j + k) even / odd: colour c reads ghosts of 1 - c
     BandInterpolation from_finer;  // restriction: into the finer band at this voxel's cp
