@@ -228,16 +228,24 @@ const std::vector<float>& BandMultigrid::Level::inverse_diagonal(double z) {
   return fresh.inverse_diagonal;
 }
 
-void BandMultigrid::smooth(Level& level, double z, int sweeps) {
+void BandMultigrid::smooth(Level& level, double z, int sweeps, bool from_zero) {
   const NarrowBand& band = *level.band;
   const auto inv_h2 = static_cast<float>(1.0 / (band.grid().h() * band.grid().h()));
   const auto zf = static_cast<float>(z);
   const std::vector<float>& inverse_diagonal = level.inverse_diagonal(z);
   for (int s = 0; s < sweeps; ++s)
     for (int colour = 0; colour < 2; ++colour) {
+      const auto& set = level.colours[colour];
+      if (from_zero && s == 0 && colour == 0) {
+        // x and its ghosts are all 0: the first half sweep needs no neighbours.
+        for_each_index(set.size(), [&](std::size_t i) {
+          const std::size_t v = set[i];
+          level.x[v] = level.b[v] * inverse_diagonal[v];
+        });
+        continue;
+      }
       // A voxel's 6 neighbours have the other parity: only those ghosts need fresh values.
       band.fill_ghosts(level.x, 1 - colour);
-      const auto& set = level.colours[colour];
       for_each_index(set.size(), [&](std::size_t i) {
         const std::size_t v = set[i];
         float sum = 0.0f;
@@ -253,19 +261,19 @@ void BandMultigrid::v_cycle(std::size_t l, std::size_t last, double z) {
   Level& fine = levels_[l];
   if (l == last) {
     if (l == 0) {
-      smooth(fine, z, kSmoothingSweeps);
+      smooth(fine, z, kSmoothingSweeps, true);
       return;
     }
     // The coarsest band is small: smooth it until its residual has dropped 1000-fold. Where coarsening
     // stopped at the size limit rather than at z h^2 >= 8, that takes more than a few sweeps.
     const double target = 1e-3 * residual(fine, z);
     for (int sweeps = 0; sweeps < kMaxCoarsestSweeps; sweeps += kCoarsestSweeps) {
-      smooth(fine, z, kCoarsestSweeps);
+      smooth(fine, z, kCoarsestSweeps, sweeps == 0);
       if (residual(fine, z) <= target) break;
     }
     return;
   }
-  smooth(fine, z, kSmoothingSweeps);
+  smooth(fine, z, kSmoothingSweeps, true);
   residual(fine, z);
   const NarrowBand& band = *fine.band;
   band.fill_ghosts(fine.r);
@@ -281,7 +289,7 @@ void BandMultigrid::v_cycle(std::size_t l, std::size_t last, double z) {
   v_cycle(l + 1, last, z);
   for_each_index(fine.band->size(),
                  [&](std::size_t v) { fine.x[v] += fine.to_coarser.at<float>(v, coarse.x); });
-  smooth(fine, z, kSmoothingSweeps);
+  smooth(fine, z, kSmoothingSweeps, false);
 }
 
 MultigridSolveReport BandMultigrid::solve(double z, std::span<const double> b, std::span<double> x,
