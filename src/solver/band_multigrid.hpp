@@ -113,7 +113,7 @@ class BandMultigrid {
 
   // Red-black Gauss-Seidel; from_zero: x (and its ghosts) are 0 on entry.
   void smooth(Level& level, double z, int sweeps, bool from_zero);
-  double residual(Level& level, double z);          // fills level.r, returns its max norm
+  double residual(Level& level, double z);  // fills level.r, returns its max norm
   void v_cycle(std::size_t l, std::size_t last, double z);
   std::size_t last_level_for(double z) const;
 
