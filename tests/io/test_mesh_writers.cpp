@@ -4,11 +4,13 @@
 
 #include <Model/COM/NMR_DLLInterfaces.h>
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 #include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <string>
 
 #include "core/error.hpp"
@@ -102,6 +104,48 @@ TEST(MeshWriters, OutputIsTheSameBytesEveryTime) {
     EXPECT_TRUE(read_bytes(dir / (std::string("a") + ext)) == read_bytes(dir / (std::string("b") + ext)))
         << ext;
   }
+}
+
+// A 3MF large enough to be made of several chunks of vertices and of triangles (32,768 lines each),
+// with coordinates from 0.001 to 500 mm: the reader gets back every float and every index exactly,
+// whether one thread wrote it or all of them.
+TEST(MeshWriters, Large3mfReadsBackExactly) {
+  constexpr int kAround = 400, kTube = 200;  // 80,000 vertices, 160,000 triangles
+  TriangleMesh mesh;
+  for (int i = 0; i < kAround; ++i)
+    for (int j = 0; j < kTube; ++j) {
+      const double u = 2.0 * std::numbers::pi * i / kAround, v = 2.0 * std::numbers::pi * j / kTube;
+      const double ring = 250.0 + 0.999 * 3.0 * std::cos(v);
+      mesh.vertices.emplace_back(ring * std::cos(u) + 250.001, ring * std::sin(u) + 1.0 / 3.0,
+                                 3.0 * std::sin(v) + 1e-3);
+    }
+  const auto at = [](int i, int j) { return (i % kAround) * kTube + j % kTube; };
+  for (int i = 0; i < kAround; ++i)
+    for (int j = 0; j < kTube; ++j) {
+      mesh.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      mesh.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+  const fs::path dir = scratch_dir("large3mf");
+  write_mesh(dir / "a.3mf", mesh);
+  // What the reader makes of the exact floats (it numbers vertices in the order triangles use them).
+  TriangleMesh expected = mesh;
+  for (Vec3& p : expected.vertices) p = p.cast<float>().cast<double>();
+  clean_triangle_mesh(expected);
+  const TriangleMesh back = read_triangle_mesh(dir / "a.3mf");
+  ASSERT_EQ(back.vertices.size(), expected.vertices.size());
+  ASSERT_EQ(back.triangles.size(), expected.triangles.size());
+  std::size_t moved = 0, renumbered = 0;
+  for (std::size_t v = 0; v < back.vertices.size(); ++v) moved += back.vertices[v] != expected.vertices[v];
+  for (std::size_t t = 0; t < back.triangles.size(); ++t)
+    renumbered += back.triangles[t] != expected.triangles[t];
+  EXPECT_EQ(moved, 0u);
+  EXPECT_EQ(renumbered, 0u);
+
+  {
+    tbb::global_control one_thread(tbb::global_control::max_allowed_parallelism, 1);
+    write_mesh(dir / "b.3mf", mesh);
+  }
+  EXPECT_TRUE(read_bytes(dir / "a.3mf") == read_bytes(dir / "b.3mf"));
 }
 
 TEST(MeshWriters, UnknownExtensionIsRefusedBeforeWriting) {
