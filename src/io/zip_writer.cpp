@@ -112,17 +112,18 @@ std::string central_header(const std::string& name, const Written& w) {
   return h;
 }
 
+// A failed write leaves `out` failed, for the caller to report (write_atomically: "disk full?").
 std::uint64_t position(std::ostream& out) {
   const auto p = out.tellp();
-  if (p < 0) throw std::runtime_error("the ZIP writer needs a seekable stream");
-  return static_cast<std::uint64_t>(p);
+  if (p < 0 && out) throw std::runtime_error("the ZIP writer needs a seekable stream");
+  return p < 0 ? 0 : static_cast<std::uint64_t>(p);
 }
 
 }  // namespace
 
 void write_zip(std::ostream& out, const std::vector<ZipEntry>& entries) {
   std::vector<Written> written(entries.size());
-  for (std::size_t e = 0; e < entries.size(); ++e) {
+  for (std::size_t e = 0; e < entries.size() && out; ++e) {
     const ZipEntry& entry = entries[e];
     if (entry.name.size() > 0xFFFFu || entry.chunks == 0) throw std::invalid_argument("zip: bad entry");
     Written& w = written[e];
@@ -157,6 +158,7 @@ void write_zip(std::ostream& out, const std::vector<ZipEntry>& entries) {
     out.seekp(static_cast<std::streamoff>(end));
   }
 
+  if (!out) return;
   const std::uint64_t directory = position(out);
   std::string tail;
   for (std::size_t e = 0; e < entries.size(); ++e) tail += central_header(entries[e].name, written[e]);
