@@ -248,10 +248,15 @@
                    positions[a + 2] * (positions[b] * positions[c + 1] - positions[b + 1] * positions[c])) / 6;
   }
 
+  // A preview's holes are where the pattern, interpolated across each triangle, is positive: tested per
+  // pixel (the shader below), so an edge is the pattern's contour, not a blend of vertex colours that
+  // frays every disc. The vertices carry the colour of their hole on both sides of that edge.
+  if (pattern) geometry.setAttribute('pattern', new THREE.BufferAttribute(pattern, 1));
+
   // Vertices within a hole's reach take its colour: a cell grid of the hole centres finds them.
   const reach = holes.map((h) => 0.5 * h.diameter * 1.3 + 0.2);
   function colourVertices(show) {
-    for (let i = 0; i < colours.length; i += 3) BASE.toArray(colours, i);
+    for (let i = 0; i < colours.length; i += 3) (show && pattern ? OPEN : BASE).toArray(colours, i);
     if (show && holes.length) {
       const cell = Math.max(...reach);
       const grid = new Map();
@@ -277,9 +282,7 @@
                 if (d2 < reach[n] * reach[n] && d2 < bestD) { bestD = d2; best = n; }
               }
             }
-        if (pattern && !(pattern[v / 3] > 0)) continue;
         if (best >= 0) holeColours[best].toArray(colours, v);
-        else if (pattern) OPEN.toArray(colours, v);
       }
     }
     geometry.attributes.color.needsUpdate = true;
@@ -289,6 +292,16 @@
   const material = new THREE.MeshStandardMaterial({
     vertexColors: THREE.VertexColors, roughness: 0.62, metalness: 0.0, side: THREE.DoubleSide,
   });
+  if (pattern)
+    material.onBeforeCompile = (shader) => {
+      shader.vertexShader = shader.vertexShader
+        .replace('#include <common>', '#include <common>\nattribute float pattern;\nvarying float vPattern;')
+        .replace('#include <begin_vertex>', '#include <begin_vertex>\nvPattern = pattern;');
+      const base = BASE.toArray().map((c) => c.toFixed(4)).join(', ');
+      shader.fragmentShader = shader.fragmentShader
+        .replace('#include <common>', '#include <common>\nvarying float vPattern;')
+        .replace('#include <color_fragment>', `diffuseColor.rgb *= vPattern > 0.0 ? vColor : vec3(${base});`);
+    };
   const mesh = new THREE.Mesh(geometry, material);
   scene.add(mesh);
 
