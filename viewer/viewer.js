@@ -248,17 +248,29 @@
                    positions[a + 2] * (positions[b] * positions[c + 1] - positions[b + 1] * positions[c])) / 6;
   }
 
-  // A preview's holes are where the pattern, interpolated across each triangle, is positive: tested per
-  // pixel (the shader below), so an edge is the pattern's contour, not a blend of vertex colours that
-  // frays every disc. The vertices carry the colour of their hole on both sides of that edge.
-  if (pattern) geometry.setAttribute('pattern', new THREE.BufferAttribute(pattern, 1));
+  // Paint is tested per pixel (the shader below): a hole's colour shows where `paint`, interpolated across
+  // each triangle, is positive, so the coloured edge is a contour and not a blend of vertex colours that
+  // frays along every triangle it crosses. A preview's paint is its pattern (open where positive); a
+  // run's is how far inside a hole's reach (1.3 radii, its rim on the surface) a vertex is. Vertices
+  // carry their hole's colour some way past that edge, so that no triangle across it blends colours.
+  const paint = pattern ? pattern : new Float32Array(positions.length / 3);
+  geometry.setAttribute('paint', new THREE.BufferAttribute(paint, 1));
+  let edgeLength = 0;  // mean, over the first triangles: how far past the edge colours must reach
+  const sampled = Math.min(indices.length, 30000);
+  for (let t = 0; t < sampled; t += 3) {
+    const a = 3 * indices[t], b = 3 * indices[t + 1];
+    edgeLength += Math.hypot(positions[a] - positions[b], positions[a + 1] - positions[b + 1],
+                             positions[a + 2] - positions[b + 2]) / (sampled / 3);
+  }
+  const margin = 1.5 * edgeLength;
 
-  // Vertices within a hole's reach take its colour: a cell grid of the hole centres finds them.
+  // A cell grid of the hole centres finds the holes whose reach (plus the margin) a vertex is in.
   const reach = holes.map((h) => 0.5 * h.diameter * 1.3 + 0.2);
   function colourVertices(show) {
     for (let i = 0; i < colours.length; i += 3) (show && pattern ? OPEN : BASE).toArray(colours, i);
+    if (!pattern) paint.fill(-1);
     if (show && holes.length) {
-      const cell = Math.max(...reach);
+      const cell = Math.max(...reach) + margin;
       const grid = new Map();
       const key = (i, j, k) => i + ',' + j + ',' + k;
       holes.forEach((h, n) => {
@@ -270,7 +282,7 @@
       for (let v = 0; v < positions.length; v += 3) {
         const px = positions[v], py = positions[v + 1], pz = positions[v + 2];
         const ci = Math.floor(px / cell), cj = Math.floor(py / cell), ck = Math.floor(pz / cell);
-        let best = -1, bestD = Infinity;
+        let best = -1, inside = -margin;  // the hole whose reach the vertex is deepest in
         for (let i = ci - 1; i <= ci + 1; ++i)
           for (let j = cj - 1; j <= cj + 1; ++j)
             for (let k = ck - 1; k <= ck + 1; ++k) {
@@ -278,30 +290,31 @@
               if (!list) continue;
               for (const n of list) {
                 const c = holes[n].centre;
-                const d2 = (px - c.x) ** 2 + (py - c.y) ** 2 + (pz - c.z) ** 2;
-                if (d2 < reach[n] * reach[n] && d2 < bestD) { bestD = d2; best = n; }
+                const depth = reach[n] - Math.sqrt((px - c.x) ** 2 + (py - c.y) ** 2 + (pz - c.z) ** 2);
+                if (depth > inside) { inside = depth; best = n; }
               }
             }
         if (best >= 0) holeColours[best].toArray(colours, v);
+        if (!pattern) paint[v / 3] = inside;
       }
     }
     geometry.attributes.color.needsUpdate = true;
+    geometry.attributes.paint.needsUpdate = true;
   }
   colourVertices(true);
 
   const material = new THREE.MeshStandardMaterial({
     vertexColors: THREE.VertexColors, roughness: 0.62, metalness: 0.0, side: THREE.DoubleSide,
   });
-  if (pattern)
-    material.onBeforeCompile = (shader) => {
-      shader.vertexShader = shader.vertexShader
-        .replace('#include <common>', '#include <common>\nattribute float pattern;\nvarying float vPattern;')
-        .replace('#include <begin_vertex>', '#include <begin_vertex>\nvPattern = pattern;');
-      const base = BASE.toArray().map((c) => c.toFixed(4)).join(', ');
-      shader.fragmentShader = shader.fragmentShader
-        .replace('#include <common>', '#include <common>\nvarying float vPattern;')
-        .replace('#include <color_fragment>', `diffuseColor.rgb *= vPattern > 0.0 ? vColor : vec3(${base});`);
-    };
+  material.onBeforeCompile = (shader) => {
+    shader.vertexShader = shader.vertexShader
+      .replace('#include <common>', '#include <common>\nattribute float paint;\nvarying float vPaint;')
+      .replace('#include <begin_vertex>', '#include <begin_vertex>\nvPaint = paint;');
+    const base = BASE.toArray().map((c) => c.toFixed(4)).join(', ');
+    shader.fragmentShader = shader.fragmentShader
+      .replace('#include <common>', '#include <common>\nvarying float vPaint;')
+      .replace('#include <color_fragment>', `diffuseColor.rgb *= vPaint > 0.0 ? vColor : vec3(${base});`);
+  };
   const mesh = new THREE.Mesh(geometry, material);
   scene.add(mesh);
 
