@@ -293,10 +293,12 @@ void BandMultigrid::v_cycle(std::size_t l, std::size_t last, double z) {
 }
 
 MultigridSolveReport BandMultigrid::solve(double z, std::span<const double> b, std::span<double> x,
-                                          double residual_tolerance, int max_cycles) {
+                                          double residual_tolerance, int max_cycles,
+                                          std::span<const double> operator_of_x) {
   Level& top = levels_.front();
   const std::size_t n = top.band->size();
-  if (b.size() != n || x.size() != n) throw std::invalid_argument("multigrid: one value per band voxel");
+  if (b.size() != n || x.size() != n || (!operator_of_x.empty() && operator_of_x.size() != n))
+    throw std::invalid_argument("multigrid: one value per band voxel");
   // Defect correction: the residual of the double iterate, a float V-cycle for its correction.
   const NarrowBand& band = *top.band;
   solution_.resize(band.extended_size());
@@ -305,14 +307,22 @@ MultigridSolveReport BandMultigrid::solve(double z, std::span<const double> b, s
   const std::size_t last = last_level_for(z);
   MultigridSolveReport report;
   for (;;) {
-    band.fill_ghosts(solution_);
-    report.residual = parallel_max(n, [&](std::size_t v) {
-      double sum = 0.0;
-      for (int k = 0; k < NarrowBand::kNeighbors; ++k) sum += solution_[band.neighbor(v, k)];
-      const double r = b[v] - (z * solution_[v] - (sum - 6.0 * solution_[v]) * inv_h2);
-      top.b[v] = static_cast<float>(r);
-      return std::abs(r);
-    });
+    if (report.cycles == 0 && !operator_of_x.empty()) {
+      report.residual = parallel_max(n, [&](std::size_t v) {
+        const double r = b[v] - operator_of_x[v];
+        top.b[v] = static_cast<float>(r);
+        return std::abs(r);
+      });
+    } else {
+      band.fill_ghosts(solution_);
+      report.residual = parallel_max(n, [&](std::size_t v) {
+        double sum = 0.0;
+        for (int k = 0; k < NarrowBand::kNeighbors; ++k) sum += solution_[band.neighbor(v, k)];
+        const double r = b[v] - (z * solution_[v] - (sum - 6.0 * solution_[v]) * inv_h2);
+        top.b[v] = static_cast<float>(r);
+        return std::abs(r);
+      });
+    }
     report.converged = report.residual <= residual_tolerance;
     if (report.converged || report.cycles >= max_cycles || !std::isfinite(report.residual)) break;
     std::fill(top.x.begin(), top.x.end(), 0.0f);

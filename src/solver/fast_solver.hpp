@@ -64,6 +64,7 @@ class FastSolver final : public TimeStepper {
   BandMultigrid multigrid_;
   std::vector<double> extended_;                          // band + ghosts scratch
   std::vector<double> rhs_, y_;                           // y = (z2 - L) phi^{n+1}
+  std::vector<double> guess_image_;                       // (z2 - L) of the step's guess of phi^{n+1}
   std::vector<double> mean_field_;                        // empty: the model's phi_bar everywhere
   std::vector<double> old_, previous_, second_previous_;  // phi^n, phi^{n-1}, phi^{n-2}: the guess
   int steps_ = 0;
