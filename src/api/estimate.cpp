@@ -25,9 +25,9 @@ namespace {
 
 // docs/benchmarks.md, "Estimates": fits to the CLI's wall times (2 threads, quiet hours). With epsilon
 // tied to h (no hole size asked) the pores shrink with the voxels and the steps grow: t = 3.5 s (V /
-// 133k)^1.78 through the bunny at 131 and 260 points. With holes in mm the equation starts from the even layout and
-// takes some 20-40 steps whatever the grid, so the time follows the band: t = 0.1 s + 10.5 us V for
-// the analytic shapes, 0.3 s + 21 us V for meshes (closest points on the mesh for every band voxel and
+// 133k)^1.78 through the bunny at 131 and 260 points. With holes in mm the equation starts from the even
+// layout and takes some 20-40 steps whatever the grid, so the time follows the band: t = 0.1 s + 10.5 us V
+// for the analytic shapes, 0.3 s + 21 us V for meshes (closest points on the mesh for every band voxel and
 // shell sample), and 21.3 s (V / 644k)^1.41 for point clouds (the surface made from the points).
 constexpr double kSecondsAtReference = 3.5, kReferenceVoxels = 133356.0, kVoxelExponent = 1.78;
 constexpr double kShapeSecondsFixed = 0.1, kShapeSecondsPerBandVoxel = 10.5e-6;
