@@ -183,7 +183,8 @@ void write_zip(std::ostream& out, const std::vector<ZipEntry>& entries) {
   put16(tail, 0);
   put16(tail, static_cast<std::uint16_t>(entries.size()));
   put16(tail, static_cast<std::uint16_t>(entries.size()));
-  put32(tail, kUnknown32);
+  // As lib3mf writes it (and slicers read it): the directory's size here, its offset only in ZIP64.
+  put32(tail, directory_size < kUnknown32 ? static_cast<std::uint32_t>(directory_size) : kUnknown32);
   put32(tail, kUnknown32);
   put16(tail, 0);
   out.write(tail.data(), static_cast<std::streamsize>(tail.size()));
