@@ -15,14 +15,19 @@ constexpr std::uint16_t kZip64Tag = 1;
 constexpr std::uint32_t kUnknown32 = 0xFFFFFFFFu;  // the size or offset is in the ZIP64 field
 constexpr std::size_t kChunksInFlight = 8;
 
+// Little-endian fields, as ZIP stores them.
+template <class Unsigned>
+void put(std::string& s, Unsigned v) {
+  for (std::size_t b = 0; b < sizeof v; ++b) s.push_back(static_cast<char>((v >> (8 * b)) & 0xFFu));
+}
 void put16(std::string& s, std::uint16_t v) {
-  for (int b = 0; b < 2; ++b) s.push_back(static_cast<char>((v >> (8 * b)) & 0xFFu));
+  put(s, v);
 }
 void put32(std::string& s, std::uint32_t v) {
-  for (int b = 0; b < 4; ++b) s.push_back(static_cast<char>((v >> (8 * b)) & 0xFFu));
+  put(s, v);
 }
 void put64(std::string& s, std::uint64_t v) {
-  for (int b = 0; b < 8; ++b) s.push_back(static_cast<char>((v >> (8 * b)) & 0xFFu));
+  put(s, v);
 }
 
 struct Deflated {
@@ -63,19 +68,26 @@ struct Written {
   uLong crc = 0;
 };
 
-std::string local_header(const std::string& name, const Written& w) {
-  std::string h;
-  put32(h, 0x04034b50u);
+// The fields a local header and its central directory entry share, from the version needed on: version,
+// flags, method, time, date (1980-01-01, the earliest a ZIP can say: reproducible bytes), CRC, both
+// sizes (in the ZIP64 field), the name's length and the extra field's.
+void shared_fields(std::string& h, const std::string& name, const Written& w, std::uint16_t extra) {
   put16(h, kZip64Version);
-  put16(h, 0);  // flags
+  put16(h, 0);
   put16(h, kDeflated);
-  put16(h, 0);     // time
-  put16(h, 0x21);  // date: 1980-01-01, the earliest a ZIP can say (reproducible bytes)
+  put16(h, 0);
+  put16(h, 0x21);
   put32(h, static_cast<std::uint32_t>(w.crc));
   put32(h, kUnknown32);
   put32(h, kUnknown32);
   put16(h, static_cast<std::uint16_t>(name.size()));
-  put16(h, 20);  // the ZIP64 field
+  put16(h, extra);
+}
+
+std::string local_header(const std::string& name, const Written& w) {
+  std::string h;
+  put32(h, 0x04034b50u);
+  shared_fields(h, name, w, 20);
   h += name;
   put16(h, kZip64Tag);
   put16(h, 16);
@@ -88,16 +100,7 @@ std::string central_header(const std::string& name, const Written& w) {
   std::string h;
   put32(h, 0x02014b50u);
   put16(h, kZip64Version);  // made by
-  put16(h, kZip64Version);  // needed
-  put16(h, 0);
-  put16(h, kDeflated);
-  put16(h, 0);
-  put16(h, 0x21);
-  put32(h, static_cast<std::uint32_t>(w.crc));
-  put32(h, kUnknown32);
-  put32(h, kUnknown32);
-  put16(h, static_cast<std::uint16_t>(name.size()));
-  put16(h, 28);
+  shared_fields(h, name, w, 28);
   put16(h, 0);  // comment
   put16(h, 0);  // disk
   put16(h, 0);  // internal attributes
@@ -112,7 +115,6 @@ std::string central_header(const std::string& name, const Written& w) {
   return h;
 }
 
-// A failed write leaves `out` failed, for the caller to report (write_atomically: "disk full?").
 std::uint64_t position(std::ostream& out) {
   const auto p = out.tellp();
   if (p < 0 && out) throw std::runtime_error("the ZIP writer needs a seekable stream");
