@@ -264,12 +264,35 @@
   }
   const margin = 1.5 * edgeLength;
 
-  // A cell grid of the hole centres finds the holes whose reach (plus the margin) a vertex is in.
+  // A hole's colour goes to the vertices within its reach that its own cut joins by edges within that
+  // reach: the rims on both faces of the wall, and not another sheet of the surface that passes within
+  // it (a fold: the bunny's chin over its neck), which a test by distance alone painted. Each hole's
+  // fill starts at its cut: the vertices within 1.15 radii of its axis and within the wall (a preview:
+  // the surface) of its centre's plane, with room for the surface's curve.
   const reach = holes.map((h) => 0.5 * h.diameter * 1.3 + 0.2);
+  const halfWall = pattern ? 0 : 0.5 * (finite((report.solid || {}).wall_mm) ? report.solid.wall_mm : 0);
+  let neighbours = null;  // each vertex's neighbours (CSR), built at the first fill
+  function vertexNeighbours() {
+    const n = positions.length / 3;
+    const start = new Uint32Array(n + 1);
+    for (let t = 0; t < indices.length; ++t) start[indices[t] + 1] += 2;
+    for (let v = 0; v < n; ++v) start[v + 1] += start[v];
+    const list = new Uint32Array(start[n]), next = start.slice(0, n);
+    for (let t = 0; t < indices.length; t += 3)
+      for (let k = 0; k < 3; ++k) {
+        const a = indices[t + k];
+        list[next[a]++] = indices[t + (k + 1) % 3];
+        list[next[a]++] = indices[t + (k + 2) % 3];
+      }
+    return { start, list };
+  }
   function colourVertices(show) {
     for (let i = 0; i < colours.length; i += 3) (show && pattern ? OPEN : BASE).toArray(colours, i);
-    if (!pattern) paint.fill(-1);
+    const vertexCount = positions.length / 3;
+    const inside = new Float32Array(vertexCount).fill(-margin);  // how deep in the reach of `best`
+    const best = new Int32Array(vertexCount).fill(-1);
     if (show && holes.length) {
+      // A cell grid of the hole centres finds each hole's vertices within its reach plus the margin.
       const cell = Math.max(...reach) + margin;
       const grid = new Map();
       const key = (i, j, k) => i + ',' + j + ',' + k;
@@ -278,26 +301,51 @@
         if (!grid.has(k)) grid.set(k, []);
         grid.get(k).push(n);
       });
-      const holeColours = holes.map((h) => deviationColour(deviation(h)));
+      const near = holes.map(() => []);
       for (let v = 0; v < positions.length; v += 3) {
         const px = positions[v], py = positions[v + 1], pz = positions[v + 2];
         const ci = Math.floor(px / cell), cj = Math.floor(py / cell), ck = Math.floor(pz / cell);
-        let best = -1, inside = -margin;  // the hole whose reach the vertex is deepest in
         for (let i = ci - 1; i <= ci + 1; ++i)
           for (let j = cj - 1; j <= cj + 1; ++j)
-            for (let k = ck - 1; k <= ck + 1; ++k) {
-              const list = grid.get(key(i, j, k));
-              if (!list) continue;
-              for (const n of list) {
+            for (let k = ck - 1; k <= ck + 1; ++k)
+              for (const n of grid.get(key(i, j, k)) || []) {
                 const c = holes[n].centre;
-                const depth = reach[n] - Math.sqrt((px - c.x) ** 2 + (py - c.y) ** 2 + (pz - c.z) ** 2);
-                if (depth > inside) { inside = depth; best = n; }
+                if (Math.hypot(px - c.x, py - c.y, pz - c.z) < reach[n] + margin) near[n].push(v / 3);
               }
-            }
-        if (best >= 0) holeColours[best].toArray(colours, v);
-        if (!pattern) paint[v / 3] = inside;
       }
+      neighbours = neighbours || vertexNeighbours();
+      const seen = new Int32Array(vertexCount).fill(-1);
+      holes.forEach((h, n) => {
+        const c = h.centre, m = h.normal, r = 0.5 * h.diameter;
+        const distance = (v) => Math.hypot(positions[3 * v] - c.x, positions[3 * v + 1] - c.y, positions[3 * v + 2] - c.z);
+        const isCut = (v) => {
+          const x = positions[3 * v] - c.x, y = positions[3 * v + 1] - c.y, z = positions[3 * v + 2] - c.z;
+          const axial = x * m.x + y * m.y + z * m.z;
+          return Math.abs(axial) <= halfWall + 0.15 * r && x * x + y * y + z * z - axial * axial <= (1.15 * r) ** 2;
+        };
+        let queue = near[n].filter(isCut);
+        if (queue.length === 0) queue = near[n];  // no cut found: by distance alone
+        for (const v of queue) seen[v] = n;
+        for (let q = 0; q < queue.length; ++q) {
+          const v = queue[q];
+          const depth = reach[n] - distance(v);
+          if (depth > inside[v]) {
+            inside[v] = depth;
+            best[v] = n;
+          }
+          for (let e = neighbours.start[v]; e < neighbours.start[v + 1]; ++e) {
+            const w = neighbours.list[e];
+            if (seen[w] === n || distance(w) >= reach[n] + margin) continue;
+            seen[w] = n;
+            queue.push(w);
+          }
+        }
+      });
+      const holeColours = holes.map((h) => deviationColour(deviation(h)));
+      for (let v = 0; v < vertexCount; ++v)
+        if (best[v] >= 0) holeColours[best[v]].toArray(colours, 3 * v);
     }
+    if (!pattern) paint.set(inside);
     geometry.attributes.color.needsUpdate = true;
     geometry.attributes.paint.needsUpdate = true;
   }

@@ -25,7 +25,8 @@ int main(int argc, char** argv) {
   std::ofstream(argv[2]) << nlohmann::json{{"preview", preview},
                                            {"hole_count", data.holes.size()},
                                            {"holes", holes},
-                                           {"sphere", {{"centre", {10.0, -5.0, 20.0}}, {"radius", 40.0}}}}
+                                           {"sphere", {{"centre", {10.0, -5.0, 20.0}}, {"radius", 40.0}}},
+                                           {"fold_radius", preview ? 0.0 : poreshell::testing::kFoldRadius}}
                                 .dump(1);
   return 0;
 }

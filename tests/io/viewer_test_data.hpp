@@ -11,6 +11,8 @@
 
 namespace poreshell::testing {
 
+inline constexpr double kFoldRadius = 37.0;  // the run page's second sheet (below)
+
 inline ViewerData viewer_test_data(int holes = 40, bool preview = false) {
   ViewerData data;
   data.title = "Sphere <test> & holes";
@@ -58,6 +60,26 @@ inline ViewerData viewer_test_data(int holes = 40, bool preview = false) {
       if (r > 0 && outside_holes(a)) data.mesh.triangles.push_back(a);
       if (r + 1 < rings && outside_holes(b)) data.mesh.triangles.push_back(b);
     }
+  // A run's page also has a sheet 3 mm under the sphere, as where the surface folds over itself: within
+  // every hole's reach of colour (1.3 radii), seen through each hole, and joined to none of them.
+  if (!preview) {
+    const auto first = static_cast<std::int32_t>(data.mesh.vertices.size());
+    const int inner_rings = rings, inner_segments = segments;
+    for (int r = 0; r <= inner_rings; ++r)
+      for (int s = 0; s < inner_segments; ++s) {
+        const double theta = pi * r / inner_rings, phi = 2.0 * pi * s / inner_segments;
+        data.mesh.vertices.push_back(centre + kFoldRadius * Vec3(std::sin(theta) * std::cos(phi),
+                                                                 std::sin(theta) * std::sin(phi),
+                                                                 std::cos(theta)));
+      }
+    const auto inner = [&](int r, int s) { return first + r * inner_segments + (s % inner_segments); };
+    for (int r = 0; r < inner_rings; ++r)
+      for (int s = 0; s < inner_segments; ++s) {
+        if (r > 0) data.mesh.triangles.push_back({inner(r, s), inner(r + 1, s), inner(r + 1, s + 1)});
+        if (r + 1 < inner_rings)
+          data.mesh.triangles.push_back({inner(r, s), inner(r + 1, s + 1), inner(r, s + 1)});
+      }
+  }
   if (preview)
     for (const Vec3& v : data.mesh.vertices) {
       double open = -1.0;

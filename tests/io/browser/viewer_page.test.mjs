@@ -5,7 +5,8 @@
 // or `all`:
 // loads (no console errors, no requests but the page's own), canvas (the screenshot's view is
 // not blank), hole_edge (a hole's colour ends in a sharp edge on the surface, not in a blend of vertex
-// colours over a triangle or two), hole_count (the panel's count is the data's), click_hole (clicking a hole's centre shows
+// colours over a triangle or two), fold (a run page's second sheet under the sphere, seen through its
+// holes, keeps the surface's colour: no hole's colour reaches a sheet its cut does not join), hole_count (the panel's count is the data's), click_hole (clicking a hole's centre shows
 // its diameter), click_surface (clicking the surface shows the point's coordinates), panel (a full
 // run's panel shows its solid: wall, triangles, volume; a preview's says it is one and shows none of
 // them, nor a wall that was not asked for).
@@ -15,7 +16,7 @@ import { pathToFileURL } from 'node:url';
 import { inflateSync } from 'node:zlib';
 
 const SKIP = 77;
-const ALL = ['loads', 'canvas', 'hole_edge', 'hole_count', 'click_hole', 'click_surface', 'panel'];
+const ALL = ['loads', 'canvas', 'hole_edge', 'fold', 'hole_count', 'click_hole', 'click_surface', 'panel'];
 const [checkList, pagePath, expectedPath] = process.argv.slice(2);
 if (!checkList || !pagePath || !expectedPath) {
   console.error('usage: node viewer_page.test.mjs CHECKS PAGE.html EXPECTED.json');
@@ -70,6 +71,22 @@ try {
     }
     return found.sort((a, b) => b.cam - a.cam);
   };
+  // Where the point of the sphere `radii` hole radii from hole h's centre (in a fixed direction) lands.
+  const onSphere = async (h, radii) => {
+    const { centre, radius } = expected.sphere;
+    const side = Math.abs(h.normal[0]) < 0.9 ? [1, 0, 0] : [0, 1, 0];
+    let t = side.map((c, k) => c - h.normal[k] * side.reduce((a, v, j) => a + v * h.normal[j], 0));
+    t = t.map((c) => c / Math.hypot(...t));
+    let p = h.centre.map((c, k) => c + radii * 0.5 * h.diameter_mm * t[k] - centre[k]);
+    p = p.map((c, k) => centre[k] + radius * c / Math.hypot(...p));
+    return page.evaluate((q, n) => window.poreshellViewer.project(...q, ...n), p, h.normal);
+  };
+  const far = (a, b) => Math.hypot(...a.map((c, k) => c - b[k]));
+  const screenshot = async () => {
+    const box = await (await page.$('#view canvas')).boundingBox();
+    const image = decodePng(await page.screenshot({ clip: box, type: 'png' }));
+    return { box, at: (s) => image.pixel(Math.round(s.x - box.x), Math.round(s.y - box.y)) };
+  };
   for (check of checks) {
 
     if (check === 'loads') {
@@ -94,6 +111,22 @@ try {
                   `${(100 * tinted / samples).toFixed(2)} % coloured`);
       expect(differing / samples > 0.1, 'the canvas is nearly blank');
       expect(tinted / samples > 0.002, 'no coloured holes in view');
+    } else if (check === 'fold') {
+      if (!expected.fold_radius) {
+        console.log('a preview page: no fold');
+      } else {
+        // Through the middle of each of the three holes facing the camera the sheet under the sphere
+        // shows: its colour must be nearer the surface's (2 radii out) than the hole's (its rim, 1.2
+        // radii out). Painted by distance alone, every hole's colour reached the sheet.
+        const shot = await screenshot();
+        for (const best of (await facingHoles()).slice(0, 3)) {
+          const h = expected.holes[best.i];
+          const through = shot.at(best.s), rim = shot.at(await onSphere(h, 1.2));
+          const surface = shot.at(await onSphere(h, 2.0));
+          console.log(`hole ${best.i}: through it ${through}, its rim ${rim}, the surface ${surface}`);
+          expect(far(through, surface) < far(through, rim), `hole ${best.i}'s colour reaches the sheet under it`);
+        }
+      }
     } else if (check === 'hole_count') {
       const text = await page.$eval('#hole-count', (e) => e.textContent.trim());
       expect(text === String(expected.hole_count), `panel says ${text} holes, the data has ${expected.hole_count}`);
@@ -105,24 +138,13 @@ try {
       // the hole's colour nor the surface's (further than a quarter of their difference from each).
       const facing = (await facingHoles()).slice(0, 3);
       expect(facing.length === 3, 'fewer than 3 holes face the camera');
-      const box = await (await page.$('#view canvas')).boundingBox();
-      const image = decodePng(await page.screenshot({ clip: box, type: 'png' }));
+      const shot = await screenshot();
       let blended = 0;
       for (const best of facing) {
-        const h = expected.holes[best.i], { centre, radius } = expected.sphere;
-        const side = Math.abs(h.normal[0]) < 0.9 ? [1, 0, 0] : [0, 1, 0];
-        let t = side.map((c, k) => c - h.normal[k] * side.reduce((a, v, j) => a + v * h.normal[j], 0));
-        t = t.map((c) => c / Math.hypot(...t));
-        const onSurface = async (radii) => {
-          let p = h.centre.map((c, k) => c + radii * 0.5 * h.diameter_mm * t[k] - centre[k]);
-          p = p.map((c, k) => centre[k] + radius * c / Math.hypot(...p));
-          return page.evaluate((q, n) => window.poreshellViewer.project(...q, ...n), p, h.normal);
-        };
-        const start = expected.preview ? best.s : await onSurface(1.2), end = await onSurface(1.6);
-        const at = (f) => image.pixel(Math.round(start.x + f * (end.x - start.x) - box.x),
-                                      Math.round(start.y + f * (end.y - start.y) - box.y));
+        const h = expected.holes[best.i];
+        const start = expected.preview ? best.s : await onSphere(h, 1.2), end = await onSphere(h, 1.6);
+        const at = (f) => shot.at({ x: start.x + f * (end.x - start.x), y: start.y + f * (end.y - start.y) });
         const inside = at(0), outside = at(1);
-        const far = (a, b) => Math.hypot(...a.map((c, k) => c - b[k]));
         const contrast = far(inside, outside);
         const steps = Math.ceil(Math.hypot(end.x - start.x, end.y - start.y));
         let between = 0;
