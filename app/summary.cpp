@@ -144,8 +144,11 @@ void print_summary(const poreshell::Options& c, const poreshell::Report& r,
                  m.reduction->triangles_before, m.reduction->triangles_after, m.reduction->max_distance,
                  m.reduction->reached_target ? "" : " (the deviation bound stopped it)");
     if (m.parts.removed_fragments + m.parts.removed_voids > 0)
-      fmt::print("; removed {} specks and {} sealed voids ({:.3g} mm^3)", m.parts.removed_fragments,
-                 m.parts.removed_voids, m.parts.removed_volume);
+      fmt::print("; removed {} specks and {} sealed voids ({:.3g} mm^3{})", m.parts.removed_fragments,
+                 m.parts.removed_voids, m.parts.removed_volume,
+                 m.parts.removed_wall_voids > 0
+                     ? fmt::format(", {} of them in the wall without pores too", m.parts.removed_wall_voids)
+                     : "");
     if (m.parts.parts > 1) fmt::print("; {} separate parts", m.parts.parts);
     if (m.wall.probes > 0)
       fmt::print("; wall {:.4g} mm ({:.4g}-{:.4g}, {} probes)", m.wall.median, m.wall.min, m.wall.max,

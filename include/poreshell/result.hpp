@@ -64,10 +64,12 @@ struct LevelReport {
   struct {
     std::int64_t parts = 0;  // connected components written (1: one part; a kept cavity counts too)
     std::int64_t removed_fragments = 0, removed_voids = 0;
-    double removed_volume = 0.0;  // mm^3
+    std::int64_t removed_wall_voids = 0;  // of the voids, those the wall without pores has as well
+    double removed_volume = 0.0;          // mm^3
   } parts;
-  std::int64_t spots_at_iso = 0;        // connected components of {phi > iso} on the band
-  std::int64_t pores_from_euler = 0;    // (chi of the unperforated solid - chi) / 2
+  std::int64_t spots_at_iso = 0;  // connected components of {phi > iso} on the band
+  // (chi of the unperforated solid less its voids removed here too - chi) / 2: the pores, each a tunnel
+  std::int64_t pores_from_euler = 0;
   std::int64_t hole_table_dropped = 0;  // band spots that are no pore of the mesh (notches at an open edge)
   // What the solid zones asked for, measured on this output's holes (mm; NaN where it does not apply):
   // the least distance from a hole's edge to the open boundary (the rim left), and to a keep-out

@@ -30,6 +30,7 @@ json level_json(const LevelReport& m, const Report& r) {
            {{"count", m.parts.parts},
             {"removed_fragments", m.parts.removed_fragments},
             {"removed_voids", m.parts.removed_voids},
+            {"removed_wall_voids", m.parts.removed_wall_voids},
             {"removed_volume_mm3", m.parts.removed_volume}}},
           {"spots_at_iso", m.spots_at_iso},
           {"hole_table_dropped", m.hole_table_dropped},

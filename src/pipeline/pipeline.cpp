@@ -306,6 +306,8 @@ PipelineResult run_pipeline(const Input& input, const PreparedInput& prepared, R
     result.unperforated_euler = narrow_volume_euler(band, solid, 0.0);
   }
   monitor.stage("mesh");
+  // For the voids' test below, past the samples, in a fraction of their bytes.
+  const SolidWallPoints wall_solid = shell ? solid_wall_points(*shell) : SolidWallPoints{};
   for (std::size_t level = 0; level < options.iso.size(); ++level) {
     // Each level's share of the stage: the isosurface, the reduction if asked, the checks.
     const auto levels = static_cast<double>(options.iso.size());
@@ -324,6 +326,17 @@ PipelineResult run_pipeline(const Input& input, const PreparedInput& prepared, R
     share.advance(meshed);
     for (Vec3& v : out.mesh.vertices) v = placed.to_mm(v);
     if (!options.keep_fragments) out.parts = keep_main_parts(out.mesh, options.min_part_fraction);
+    // A sealed void the wall has without pores as well (a pocket of the surface's offset deeper than
+    // half the wall) is in the unperforated solid's Euler characteristic: it leaves that with the mesh's,
+    // else each counted as a missing pore (the bunny at 8 mm, default wall: 217 pores from Euler
+    // against 183 holes, 34 such voids). Voids the pores made are not in it.
+    std::int64_t unperforated_euler = result.unperforated_euler;
+    if (shell_mode)
+      for (const PartsSummary::Void& v : out.parts.voids)
+        if (!wall_solid.contains(placed.from_mm(v.inside))) {
+          unperforated_euler -= v.euler_characteristic;
+          ++out.parts.removed_unperforated_voids;
+        }
     if (options.max_triangles > 0) {
       out.reduction = decimate_mesh(
           out.mesh, {options.max_triangles, options.max_deviation, share.part(meshed, reduced)});
@@ -338,7 +351,7 @@ PipelineResult run_pipeline(const Input& input, const PreparedInput& prepared, R
                         out.reduction->triangles_after, 0.25 * result.solid.wall_mm));
     }
     out.topology = analyze_topology(out.mesh, share.part(reduced, checked));
-    out.pores_from_euler = (result.unperforated_euler - out.topology.euler_characteristic) / 2;
+    out.pores_from_euler = (unperforated_euler - out.topology.euler_characteristic) / 2;
     check_printable(out.topology, out.iso);
     share.advance(checked);
     if (shell_mode) out.wall = measure_wall(out.mesh, probes[level], 4.0 * result.solid.wall_mm);

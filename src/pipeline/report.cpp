@@ -20,7 +20,8 @@ LevelReport level_report(const MeshOutput& m) {
     l.reduction = ReductionReport{m.reduction->triangles_before, m.reduction->triangles_after,
                                   m.reduction->max_distance, m.reduction->reached_target};
   l.wall = {m.wall.median, m.wall.min, m.wall.max, static_cast<std::int64_t>(m.wall.probes)};
-  l.parts = {m.topology.components, m.parts.removed_fragments, m.parts.removed_voids, m.parts.removed_volume};
+  l.parts = {m.topology.components, m.parts.removed_fragments, m.parts.removed_voids,
+             m.parts.removed_unperforated_voids, m.parts.removed_volume};
   l.spots_at_iso = m.spots_at_iso;
   l.pores_from_euler = m.pores_from_euler;
   l.hole_table_dropped = static_cast<std::int64_t>(m.hole_table.dropped);

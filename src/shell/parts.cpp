@@ -63,6 +63,29 @@ PartsSummary keep_main_parts(TriangleMesh& mesh, double min_fraction) {
     summary.largest_removed_volume = std::max(summary.largest_removed_volume, std::abs(volume[r]));
   }
   if (summary.removed_fragments + summary.removed_voids == 0) return summary;
+  // The removed voids' vertices, triangles (closed: E = 3F/2, so chi = V - F/2) and centroids.
+  std::vector<std::int32_t> void_of(mesh.vertices.size(), -1);  // by root
+  for (const std::int32_t root : component) {
+    const auto r = static_cast<std::size_t>(root);
+    if (keep[r] || volume[r] >= 0.0 || void_of[r] >= 0) continue;
+    void_of[r] = static_cast<std::int32_t>(summary.voids.size());
+    summary.voids.emplace_back();
+  }
+  std::vector<std::int64_t> void_vertices(summary.voids.size(), 0);
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
+    if (const std::int32_t i = void_of[static_cast<std::size_t>(find(parent, static_cast<std::int32_t>(v)))];
+        i >= 0) {
+      ++void_vertices[static_cast<std::size_t>(i)];
+      summary.voids[static_cast<std::size_t>(i)].inside += mesh.vertices[v];
+    }
+  std::vector<std::int64_t> void_triangles(summary.voids.size(), 0);
+  for (const std::int32_t root : component)
+    if (const std::int32_t i = void_of[static_cast<std::size_t>(root)]; i >= 0)
+      ++void_triangles[static_cast<std::size_t>(i)];
+  for (std::size_t i = 0; i < summary.voids.size(); ++i) {
+    summary.voids[i].inside /= static_cast<double>(void_vertices[i]);
+    summary.voids[i].euler_characteristic = void_vertices[i] - void_triangles[i] / 2;
+  }
   // Keep the triangles of kept components, then drop the vertices no triangle uses (order kept).
   std::vector<std::array<std::int32_t, 3>> triangles;
   triangles.reserve(mesh.triangles.size());

@@ -4,6 +4,7 @@
 // are removed here; parts of comparable size (two input bodies) are all kept.
 
 #include <cstdint>
+#include <vector>
 
 #include "geometry/mesh.hpp"
 
@@ -15,6 +16,14 @@ struct PartsSummary {
   std::int64_t removed_voids = 0;       // inward components (sealed cavities) below the threshold
   double removed_volume = 0.0;          // sum of |volume| removed, in the mesh's units cubed
   double largest_removed_volume = 0.0;  // the largest |volume| removed
+  // Each removed void's Euler characteristic and a point in it (its vertices' centroid: the voids
+  // are small), for telling the voids the wall has without pores from those the pores made.
+  struct Void {
+    Vec3 inside = Vec3::Zero();
+    std::int64_t euler_characteristic = 0;
+  };
+  std::vector<Void> voids;
+  std::int64_t removed_unperforated_voids = 0;  // of them, the wall's without pores as well (its caller's)
 };
 
 // Removes every connected component whose |volume| is below `min_fraction` times the largest

@@ -225,4 +225,21 @@ std::int64_t unperforated_shell_euler(const ShellSamples& samples, const StagePr
   return isosurface_euler_characteristic(field, 0.0, progress);
 }
 
+SolidWallPoints solid_wall_points(const ShellSamples& samples) {
+  SolidWallPoints out;
+  out.grid = samples.grid;
+  out.keys.reserve(static_cast<std::size_t>(
+      std::count_if(samples.wall.begin(), samples.wall.end(), [](double w) { return w < 0.0; })));
+  for (std::size_t i = 0; i < samples.points.size(); ++i)
+    if (samples.wall[i] < 0.0) out.keys.push_back(samples.grid.key(samples.points[i]));
+  return out;
+}
+
+bool SolidWallPoints::contains(const Vec3& p) const {
+  const Vec3 q = grid.to_index_space(p);
+  const Coord c{static_cast<int>(std::lround(q.x())), static_cast<int>(std::lround(q.y())),
+                static_cast<int>(std::lround(q.z()))};
+  return grid.contains(c) && std::binary_search(keys.begin(), keys.end(), grid.key(c));
+}
+
 }  // namespace poreshell

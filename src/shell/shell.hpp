@@ -76,6 +76,14 @@ TriangleMesh shell_mesh(const ShellSamples& samples, double iso, const StageProg
 TriangleMesh unperforated_shell_mesh(const ShellSamples& samples);
 // Its Euler characteristic, without making it.
 std::int64_t unperforated_shell_euler(const ShellSamples& samples, const StageProgress& progress = {});
+// The samples inside the wall without pores, by key: whether a point is, once the samples are gone.
+struct SolidWallPoints {
+  Grid grid{Vec3::Zero(), 1.0, {3, 3, 3}};
+  std::vector<std::int64_t> keys;  // ascending
+  // Whether the grid point nearest p is one of them.
+  bool contains(const Vec3& p) const;
+};
+SolidWallPoints solid_wall_points(const ShellSamples& samples);
 
 // phi at an arbitrary point of the band's grid by trilinear interpolation of band values (the same rule
 // as the ghosts' stencils). Corners outside the band are left out and the weights renormalised;

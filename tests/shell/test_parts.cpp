@@ -51,6 +51,10 @@ TEST(Parts, SpecksAndSealedVoidsGoComparablePartsStay) {
   EXPECT_EQ(s.parts, 2);
   EXPECT_EQ(s.removed_fragments, 1);
   EXPECT_EQ(s.removed_voids, 1);
+  // The void, for the caller's test against the wall without pores: a point in it, and a sphere's chi.
+  ASSERT_EQ(s.voids.size(), 1u);
+  EXPECT_LT((s.voids[0].inside - Vec3(2, 0, 0)).norm(), 1e-9);
+  EXPECT_EQ(s.voids[0].euler_characteristic, 2);
   const double speck = 4.0 / 3.0 * std::numbers::pi * 0.125, hollow = 4.0 / 3.0 * std::numbers::pi;
   EXPECT_NEAR(s.removed_volume, speck + hollow,
               0.1 * (speck + hollow));                       // inscribed polyhedra: a little less
