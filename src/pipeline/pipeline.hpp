@@ -42,9 +42,9 @@ struct MeshOutput {
   HoleTable hole_table;                     // each pore measured on `mesh` (mm); none for a preview
   PartsSummary parts;                       // what keep_main_parts removed (none with keep_fragments)
   std::int64_t spots_at_iso = 0;            // connected components of {phi > iso} on the band
-  std::int64_t pores_from_euler = 0;  // (chi of the unperforated solid less its voids removed too - chi) / 2
-  std::vector<double> pattern;        // a preview: phi per vertex of `mesh`
-  ZoneCheck zones;                    // the rim and keep-outs, measured on the holes
+  std::int64_t pores_from_euler = 0;        // (unperforated chi less its removed voids - chi) / 2
+  std::vector<double> pattern;              // a preview: phi per vertex of `mesh`
+  ZoneCheck zones;                          // the rim and keep-outs, measured on the holes
 };
 
 // The printable solid as built (lengths in mm, the unit of every output).

@@ -21,7 +21,7 @@ LevelReport level_report(const MeshOutput& m) {
                                   m.reduction->max_distance, m.reduction->reached_target};
   l.wall = {m.wall.median, m.wall.min, m.wall.max, static_cast<std::int64_t>(m.wall.probes)};
   l.parts = {m.topology.components, m.parts.removed_fragments, m.parts.removed_voids,
-             m.parts.removed_unperforated_voids, m.parts.removed_volume};
+             m.parts.removed_wall_voids, m.parts.removed_volume};
   l.spots_at_iso = m.spots_at_iso;
   l.pores_from_euler = m.pores_from_euler;
   l.hole_table_dropped = static_cast<std::int64_t>(m.hole_table.dropped);

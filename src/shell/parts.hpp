@@ -23,7 +23,7 @@ struct PartsSummary {
     std::int64_t euler_characteristic = 0;
   };
   std::vector<Void> voids;
-  std::int64_t removed_unperforated_voids = 0;  // of them, the wall's without pores as well (its caller's)
+  std::int64_t removed_wall_voids = 0;  // of them, the wall's without pores as well (wall_voids_euler)
 };
 
 // Removes every connected component whose |volume| is below `min_fraction` times the largest

@@ -235,6 +235,17 @@ SolidWallPoints solid_wall_points(const ShellSamples& samples) {
   return out;
 }
 
+std::int64_t wall_voids_euler(PartsSummary& parts, const SolidWallPoints& wall,
+                              const std::function<Vec3(const Vec3&)>& to_grid) {
+  std::int64_t euler = 0;
+  for (const PartsSummary::Void& v : parts.voids)
+    if (!wall.contains(to_grid(v.inside))) {
+      euler += v.euler_characteristic;
+      ++parts.removed_wall_voids;
+    }
+  return euler;
+}
+
 bool SolidWallPoints::contains(const Vec3& p) const {
   const Vec3 q = grid.to_index_space(p);
   const Coord c{static_cast<int>(std::lround(q.x())), static_cast<int>(std::lround(q.y())),

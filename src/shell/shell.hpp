@@ -26,6 +26,7 @@
 #include "geometry/mesh.hpp"
 #include "geometry/surface.hpp"
 #include "poreshell/options.hpp"
+#include "shell/parts.hpp"
 
 namespace poreshell {
 
@@ -84,6 +85,15 @@ struct SolidWallPoints {
   bool contains(const Vec3& p) const;
 };
 SolidWallPoints solid_wall_points(const ShellSamples& samples);
+// Of the voids keep_main_parts removed, those the wall without pores has as well (where a part is a
+// little thicker than the wall, the slab leaves a pocket farther than t/2 from the surface): counted in
+// parts.removed_wall_voids. Returns the sum of their Euler characteristics, which the wall without
+// pores has too, so that pores from the Euler characteristic do not count them as missing pores (the
+// bunny at 8 mm with the default wall: 217 against 183 holes, 34 such voids). A void with its sample
+// outside the wall without pores is one: the solid with pores is a subset of it. `to_grid` maps the
+// mesh's coordinates to the samples'.
+std::int64_t wall_voids_euler(PartsSummary& parts, const SolidWallPoints& wall,
+                              const std::function<Vec3(const Vec3&)>& to_grid);
 
 // phi at an arbitrary point of the band's grid by trilinear interpolation of band values (the same rule
 // as the ghosts' stencils). Corners outside the band are left out and the weights renormalised;

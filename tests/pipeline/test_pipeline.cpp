@@ -90,7 +90,7 @@ TEST(Pipeline, BunnyAtThePapersGridIsOnePartWithoutSealedVoids) {
   const MeshOutput& out = r.meshes.at(0);
   EXPECT_EQ(out.topology.components, 1);
   EXPECT_GE(out.parts.removed_voids, 1);
-  EXPECT_EQ(out.parts.removed_unperforated_voids, out.parts.removed_voids);
+  EXPECT_EQ(out.parts.removed_wall_voids, out.parts.removed_voids);
   c.keep_fragments = true;
   EXPECT_GT(run_pipeline(bunny, c, unmonitored()).meshes.at(0).topology.components, 1);
 }
@@ -106,7 +106,7 @@ TEST(Pipeline, SealedVoidsOfTheWallItselfAreNoMissingPores) {
   c.spacing = 14.0;
   const PipelineResult r = run_pipeline(bunny, c, unmonitored());
   const MeshOutput& out = r.meshes.at(0);
-  EXPECT_GE(out.parts.removed_unperforated_voids, 10);
+  EXPECT_GE(out.parts.removed_wall_voids, 10);
   EXPECT_EQ(out.pores_from_euler, static_cast<std::int64_t>(out.hole_table.holes.size()));
   EXPECT_EQ(out.pores_from_euler, out.spots_at_iso);
 }
