@@ -115,6 +115,7 @@ std::string central_header(const std::string& name, const Written& w) {
   return h;
 }
 
+// A failed write leaves `out` failed, for the caller to report (write_atomically: "disk full?").
 std::uint64_t position(std::ostream& out) {
   const auto p = out.tellp();
   if (p < 0 && out) throw std::runtime_error("the ZIP writer needs a seekable stream");

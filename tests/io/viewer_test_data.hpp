@@ -37,49 +37,37 @@ inline ViewerData viewer_test_data(int holes = 40, bool preview = false) {
     for (const ViewerHole& o : data.holes)
       if (&o != &h) h.nearest_neighbour_mm = std::min(h.nearest_neighbour_mm, (o.centre - h.centre).norm());
   }
-  // A UV sphere without the triangles inside a hole.
+  // UV spheres about `centre`, each triangle added where `keep` says.
   const int rings = 64, segments = 128;
-  for (int r = 0; r <= rings; ++r)
-    for (int s = 0; s < segments; ++s) {
-      const double theta = pi * r / rings, phi = 2.0 * pi * s / segments;
-      data.mesh.vertices.push_back(centre + radius * Vec3(std::sin(theta) * std::cos(phi),
-                                                          std::sin(theta) * std::sin(phi), std::cos(theta)));
-    }
-  const auto index = [&](int r, int s) { return r * segments + (s % segments); };
-  const auto outside_holes = [&](std::array<std::int32_t, 3> t) {
+  const auto add_sphere = [&](double r_sphere, const auto& keep) {
+    const auto first = static_cast<std::int32_t>(data.mesh.vertices.size());
+    for (int r = 0; r <= rings; ++r)
+      for (int s = 0; s < segments; ++s) {
+        const double theta = pi * r / rings, phi = 2.0 * pi * s / segments;
+        data.mesh.vertices.push_back(centre + r_sphere * Vec3(std::sin(theta) * std::cos(phi),
+                                                              std::sin(theta) * std::sin(phi),
+                                                              std::cos(theta)));
+      }
+    const auto index = [&](int r, int s) { return first + r * segments + (s % segments); };
+    for (int r = 0; r < rings; ++r)
+      for (int s = 0; s < segments; ++s) {
+        const std::array<std::int32_t, 3> a{index(r, s), index(r + 1, s), index(r + 1, s + 1)};
+        const std::array<std::int32_t, 3> b{index(r, s), index(r + 1, s + 1), index(r, s + 1)};
+        if (r > 0 && keep(a)) data.mesh.triangles.push_back(a);
+        if (r + 1 < rings && keep(b)) data.mesh.triangles.push_back(b);
+      }
+  };
+  // The sphere without the triangles inside a hole.
+  add_sphere(radius, [&](const std::array<std::int32_t, 3>& t) {
     if (preview) return true;
     const Vec3 c = (data.mesh.vertices[t[0]] + data.mesh.vertices[t[1]] + data.mesh.vertices[t[2]]) / 3.0;
     for (const ViewerHole& h : data.holes)
       if ((c - h.centre).norm() < 0.5 * h.diameter_mm) return false;
     return true;
-  };
-  for (int r = 0; r < rings; ++r)
-    for (int s = 0; s < segments; ++s) {
-      const std::array<std::int32_t, 3> a{index(r, s), index(r + 1, s), index(r + 1, s + 1)};
-      const std::array<std::int32_t, 3> b{index(r, s), index(r + 1, s + 1), index(r, s + 1)};
-      if (r > 0 && outside_holes(a)) data.mesh.triangles.push_back(a);
-      if (r + 1 < rings && outside_holes(b)) data.mesh.triangles.push_back(b);
-    }
+  });
   // A run's page also has a sheet 3 mm under the sphere, as where the surface folds over itself: within
   // every hole's reach of colour (1.3 radii), seen through each hole, and joined to none of them.
-  if (!preview) {
-    const auto first = static_cast<std::int32_t>(data.mesh.vertices.size());
-    const int inner_rings = rings, inner_segments = segments;
-    for (int r = 0; r <= inner_rings; ++r)
-      for (int s = 0; s < inner_segments; ++s) {
-        const double theta = pi * r / inner_rings, phi = 2.0 * pi * s / inner_segments;
-        data.mesh.vertices.push_back(centre + kFoldRadius * Vec3(std::sin(theta) * std::cos(phi),
-                                                                 std::sin(theta) * std::sin(phi),
-                                                                 std::cos(theta)));
-      }
-    const auto inner = [&](int r, int s) { return first + r * inner_segments + (s % inner_segments); };
-    for (int r = 0; r < inner_rings; ++r)
-      for (int s = 0; s < inner_segments; ++s) {
-        if (r > 0) data.mesh.triangles.push_back({inner(r, s), inner(r + 1, s), inner(r + 1, s + 1)});
-        if (r + 1 < inner_rings)
-          data.mesh.triangles.push_back({inner(r, s), inner(r + 1, s + 1), inner(r, s + 1)});
-      }
-  }
+  if (!preview) add_sphere(kFoldRadius, [](const std::array<std::int32_t, 3>&) { return true; });
   if (preview)
     for (const Vec3& v : data.mesh.vertices) {
       double open = -1.0;
