@@ -25,6 +25,7 @@ AreaSamples area_samples(const NarrowBand& band, std::span<const double> zone_we
     }
     s.points.push_back(band.closest_point(v));
     s.area.push_back(area);
+    s.voxel.push_back(static_cast<std::int32_t>(v));
   }
   if (zone.empty() || margin <= 0.0) return s;
   const PointTree tree(std::move(zone));
@@ -36,6 +37,7 @@ AreaSamples area_samples(const NarrowBand& band, std::span<const double> zone_we
     if (keep[i]) {
       kept.points.push_back(s.points[i]);
       kept.area.push_back(s.area[i]);
+      kept.voxel.push_back(s.voxel[i]);
     }
   return kept;
 }
@@ -271,6 +273,45 @@ std::vector<Vec3> spread_centres(std::vector<Vec3> centres, const AreaSamples& s
   return centres;
 }
 
+std::vector<AreaSamples> free_parts(const NarrowBand& band, const AreaSamples& samples) {
+  std::vector<std::int32_t> sample_of(band.size(), -1);
+  for (std::size_t i = 0; i < samples.voxel.size(); ++i)
+    sample_of[static_cast<std::size_t>(samples.voxel[i])] = static_cast<std::int32_t>(i);
+  // Union-find over the samples, each joined to its +x, +y and +z neighbours (6-adjacency: the layer
+  // |psi| < h, 2 h thick, is 6-connected wherever the surface is).
+  std::vector<std::int32_t> root(samples.voxel.size());
+  std::iota(root.begin(), root.end(), 0);
+  const auto find = [&](std::int32_t i) {
+    while (root[static_cast<std::size_t>(i)] != i)
+      i = root[static_cast<std::size_t>(i)] =
+          root[static_cast<std::size_t>(root[static_cast<std::size_t>(i)])];
+    return i;
+  };
+  for (std::size_t i = 0; i < samples.voxel.size(); ++i)
+    for (const int n : {1, 3, 5}) {
+      const std::int32_t w = band.neighbor(static_cast<std::size_t>(samples.voxel[i]), n);
+      if (w < 0 || static_cast<std::size_t>(w) >= band.size()) continue;  // off the layer, or a ghost
+      const std::int32_t j = sample_of[static_cast<std::size_t>(w)];
+      if (j < 0) continue;
+      const std::int32_t a = find(static_cast<std::int32_t>(i)), b = find(j);
+      root[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);  // the lower index roots a part
+    }
+  std::vector<std::int32_t> part_of_root(samples.voxel.size(), -1);
+  std::vector<AreaSamples> parts;
+  for (std::size_t i = 0; i < samples.voxel.size(); ++i) {
+    std::int32_t& part = part_of_root[static_cast<std::size_t>(find(static_cast<std::int32_t>(i)))];
+    if (part < 0) {
+      part = static_cast<std::int32_t>(parts.size());
+      parts.emplace_back();
+    }
+    AreaSamples& p = parts[static_cast<std::size_t>(part)];
+    p.points.push_back(samples.points[i]);
+    p.area.push_back(samples.area[i]);
+    p.voxel.push_back(samples.voxel[i]);
+  }
+  return parts;
+}
+
 std::vector<Vec3> farthest_point_centres(const AreaSamples& samples, std::size_t count, std::uint64_t seed) {
   std::vector<Vec3> centres;
   const std::size_t n = samples.points.size();
@@ -405,10 +446,13 @@ std::vector<Vec3> merge_overlapping_centres(std::vector<Vec3> centres, double di
 std::vector<Vec3> even_layout(const NarrowBand& band, const Surface& surface,
                               std::span<const double> zone_weight, double spacing, std::uint64_t seed) {
   const AreaSamples samples = area_samples(band, zone_weight, kZoneMargin * spacing);
-  const double area = std::accumulate(samples.area.begin(), samples.area.end(), 0.0);
-  const auto count = static_cast<std::size_t>(std::lround(area / (kAreaPerHole * spacing * spacing)));
-  std::vector<Vec3> centres =
-      lloyd_centres(farthest_point_centres(samples, count, seed), samples, surface, kLloydIterations);
+  std::vector<Vec3> centres;
+  for (const AreaSamples& part : free_parts(band, samples)) {
+    const double area = std::accumulate(part.area.begin(), part.area.end(), 0.0);
+    const auto count = static_cast<std::size_t>(std::lround(area / (kAreaPerHole * spacing * spacing)));
+    for (const Vec3& c : farthest_point_centres(part, count, seed)) centres.push_back(c);
+  }
+  centres = lloyd_centres(std::move(centres), samples, surface, kLloydIterations);
   centres = spread_centres(std::move(centres), samples, surface, spacing, band.grid().h(), kSpreadIterations);
   return lloyd_centres(std::move(centres), samples, surface, kSettleIterations);
 }

@@ -20,6 +20,7 @@ namespace poreshell {
 struct AreaSamples {
   std::vector<Vec3> points;
   std::vector<double> area;
+  std::vector<std::int32_t> voxel;  // the band voxel each comes from
 };
 // Samples closer than `margin` to a zone's give none either (the equation keeps its spots off zones).
 AreaSamples area_samples(const NarrowBand& band, std::span<const double> zone_weight = {},
@@ -49,14 +50,19 @@ std::vector<Vec3> lloyd_centres(std::vector<Vec3> centres, const AreaSamples& sa
 std::vector<Vec3> spread_centres(std::vector<Vec3> centres, const AreaSamples& samples,
                                  const Surface& surface, double spacing, double reach, int iterations);
 
+// The samples split into the free surface's connected parts (through neighbouring band voxels), in the
+// order of their first samples. Lloyd's iteration moves no centre from one part to another, so each part
+// must start with the centres its own area asks for.
+std::vector<AreaSamples> free_parts(const NarrowBand& band, const AreaSamples& samples);
+
 // `count` well-spread starting centres among the samples: the seed picks the first (area-weighted), each
 // next one is the sample farthest from those chosen. Deterministic for a seed.
 std::vector<Vec3> farthest_point_centres(const AreaSamples& samples, std::size_t count, std::uint64_t seed);
 
-// The hole centres of an even layout at the equation's own density for `spacing` (grid units): the free
-// surface's area gives the count, the farthest-point start spreads them, Lloyd's iteration makes them a
-// centroidal Voronoi tessellation, spread_centres evens out their distances and two more Lloyd
-// iterations settle them for the equation. Deterministic for a seed, on any thread count.
+// The hole centres of an even layout at the equation's own density for `spacing` (grid units): each free
+// part's area gives its count, the farthest-point start spreads them within it, Lloyd's iteration makes them
+// a centroidal Voronoi tessellation, spread_centres evens out their distances and two more Lloyd iterations
+// settle them for the equation. Deterministic for a seed, on any thread count.
 std::vector<Vec3> even_layout(const NarrowBand& band, const Surface& surface,
                               std::span<const double> zone_weight, double spacing, std::uint64_t seed);
 
@@ -72,9 +78,10 @@ std::vector<Vec3> clear_of_open_edges(std::vector<Vec3> centres, std::span<const
 // The centres with each pair closer than `diameter` (the discs' pores overlap, painting one spot) merged
 // into one at their midpoint on the surface, closest pairs first, until none is. The equation rounds
 // such a spot into one hole of about one disc's size: on the bunny's ear (8 mm holes at 14 mm, seeds
-// 1-5) the layout puts two or three centres closer than 8 mm, whose spot measured 11.1-13.3 mm where
-// the run made one 7.1 mm hole (docs/solver.md "Layout", the preview). For a preview, which shows the
-// discs as placed.
+// 1-5), before the layout counted its centres per free part, two or three centres closer than 8 mm
+// painted a spot of 11.1-13.3 mm where the run made one 7.1 mm hole (docs/solver.md "Layout", the
+// preview). The bunny has no such pair now; a free part too narrow for Lloyd's cells to be round may.
+// For a preview, which shows the discs as placed.
 std::vector<Vec3> merge_overlapping_centres(std::vector<Vec3> centres, double diameter,
                                             const Surface& surface);
 

@@ -169,12 +169,12 @@ TEST(StopRules, PreviewOfAMeshIsThatMeshPaintedAtTheBandsResolution) {
 
 // A disc that another sheet within the band's reach partly takes (the bunny's base: two faces about a
 // millimetre apart) is smaller in the preview than the others, and the run closes it: the preview
-// closes it too (kPreviewLeastHoleShare). Seed 1, 8 mm at 14 mm: without that rule the preview showed 185
-// holes against the run's 183, three of them more than 0.15 spacing from any; with it 183, one, which
-// the run moved by 0.175 spacing. Discs that overlap, which the run rounds into one hole, are one disc
-// in the preview (merge_overlapping_centres): two on the ear painted one spot of 11.1 mm where the run
-// made one of 7.1 mm.
-TEST(StopRules, PreviewClosesAndMergesTheDiscsTheRunDoesOnTheBunny) {
+// closes it too (kPreviewLeastHoleShare). Seed 1, 8 mm at 14 mm: the preview shows 187 holes against the
+// run's 189, each within 0.15 spacing of one of the run's (the run's other two open 4.5-6 mm from the
+// base's open edges, where the layout left no disc). Without the rule (and before the layout counted its
+// centres per free part, pattern/layout.hpp free_parts) the preview showed 185 against 183, three more
+// than 0.15 spacing from any.
+TEST(StopRules, PreviewClosesTheDiscsTheRunDoesOnTheBunny) {
   const MeshInput bunny = load_mesh(std::string(PORESHELL_DATA_DIR) + "/stanford-bunny.obj", Unit::m);
   Options full;
   full.hole_diameter = 8.0;
@@ -183,14 +183,14 @@ TEST(StopRules, PreviewClosesAndMergesTheDiscsTheRunDoesOnTheBunny) {
   const HoleStats& hf = f.meshes.at(0).holes;
   const HoleStats& hp = p.meshes.at(0).holes;
   ASSERT_GT(hf.holes.size(), 150u);
-  EXPECT_GE(p.closed_small_holes, 2);
+  EXPECT_GE(p.closed_small_holes, 1);
   const double n = static_cast<double>(hf.holes.size());
-  EXPECT_LE(std::abs(static_cast<double>(hp.holes.size()) - n), 0.01 * n);
+  EXPECT_LE(std::abs(static_cast<double>(hp.holes.size()) - n), 0.015 * n);
   const std::vector<Vec3> ours = centroids(hp), theirs = centroids(hf);
   std::size_t astray = 0;
   for (const Vec3& x : ours)
     astray += largest_nearest_distance(std::span<const Vec3>(&x, 1), theirs) > 0.15 * full.spacing ? 1 : 0;
-  EXPECT_LE(astray, 1u) << "preview holes the run does not make";
+  EXPECT_EQ(astray, 0u) << "preview holes the run does not make";
   double worst = 0.0;  // the preview's diameters against the nearest run holes'
   for (const BandHole& ours_hole : hp.holes) {
     const BandHole* nearest = &hf.holes.front();
@@ -200,7 +200,7 @@ TEST(StopRules, PreviewClosesAndMergesTheDiscsTheRunDoesOnTheBunny) {
     worst = std::max(worst, std::abs(ours_hole.diameter / nearest->diameter - 1.0));
   }
   // Up to 0.30 on the base, whose holes the run shrinks where its two faces are close; the ear's two
-  // discs as one spot were 0.56 off.
+  // discs as one spot, before free_parts, were 0.56 off.
   EXPECT_LT(worst, 0.35);
 }
 
