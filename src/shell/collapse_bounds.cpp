@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>  // cross()
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -44,13 +45,6 @@ std::vector<std::int32_t> opposite_corners(const TriangleMesh& mesh) {
   if (std::find(opposite.begin(), opposite.end(), -1) != opposite.end())
     throw std::runtime_error("mesh decimation: an edge has no triangle across it");
   return opposite;
-}
-
-double min_angle_sine_squared(const Vec3& a, const Vec3& b, const Vec3& c) {
-  const double ab = (b - a).squaredNorm(), bc = (c - b).squaredNorm(), ca = (a - c).squaredNorm();
-  const double product = ab * bc * ca;
-  if (!(product > 0.0)) return 0.0;
-  return (b - a).cross(c - a).squaredNorm() * std::min({ab, bc, ca}) / product;
 }
 
 OriginalSurface::OriginalSurface(const TriangleMesh& mesh, const std::vector<std::int32_t>& opposite)
@@ -101,32 +95,48 @@ bool OriginalSurface::near(const Vec3& p, std::initializer_list<std::int32_t> an
 
 double OriginalSurface::distance2_from(const Vec3& p, std::initializer_list<std::int32_t> anchors,
                                        double enough2) const {
-  // First a walk from where a bounding sphere comes nearest, across edges while that comes closer.
+  // First a walk from where a bounding sphere comes nearest, across edges while that comes closer. The
+  // anchors' triangles' gaps are kept for the second look at them (as many as fit).
+  std::array<double, 48> gaps;
+  std::size_t count = 0;
   std::int32_t at = -1;
   double least_gap = std::numeric_limits<double>::infinity();
   for (const std::int32_t v : anchors)
-    for (const std::uint32_t f : triangles_at(v))
-      if (const double g = gap(p, static_cast<std::int32_t>(f)); g < least_gap) {
+    for (const std::uint32_t f : triangles_at(v)) {
+      const double g = gap(p, static_cast<std::int32_t>(f));
+      if (count < gaps.size()) gaps[count] = g;
+      ++count;
+      if (g < least_gap) {
         least_gap = g;
         at = static_cast<std::int32_t>(f);
       }
+    }
+  const std::int32_t first = at;
   double best = distance2(p, at);
-  auto visit = [&](std::int32_t f) {
-    if (const double g = gap(p, f); g * g >= best) return;
+  auto visit = [&](std::int32_t f, double g) {
+    if (g * g >= best) return;
     if (const double d2 = distance2(p, f); d2 < best) {
       best = d2;
       at = f;
     }
   };
+  std::size_t i = 0;
   for (const std::int32_t v : anchors)
     for (const std::uint32_t f : triangles_at(v)) {
       if (best <= enough2) return best;
-      visit(static_cast<std::int32_t>(f));
+      const auto t = static_cast<std::int32_t>(f);
+      // `first`'s distance is best or more: asking again cannot lower it.
+      if (t != first) visit(t, i < gaps.size() ? gaps[i] : gap(p, t));
+      ++i;
     }
-  for (int step = 0; step < kMaxWalk && best > enough2; ++step) {
+  // The triangle a step came from is no nearer than where it went: not asked again.
+  for (std::int32_t step = 0, behind = -1; step < kMaxWalk && best > enough2; ++step) {
     const std::int32_t from = at;
-    for (int k = 0; k < 3; ++k) visit(opposite_[static_cast<std::size_t>(3 * from + k)] / 3);
+    for (int k = 0; k < 3; ++k)
+      if (const std::int32_t f = opposite_[static_cast<std::size_t>(3 * from + k)] / 3; f != behind)
+        visit(f, gap(p, f));
     if (at == from) break;
+    behind = from;
   }
   if (best <= enough2) return best;
   // Stuck short of `enough2`: best-first from there and from the anchors. (squared gap, triangle),

@@ -495,8 +495,8 @@ class Collapser {
       if (k / 3 == left || k / 3 == right) continue;  // removed by the collapse
       const NewTriangle t{v1, vertex(next_corner(k)), vertex(previous_corner(k))};
       const Vec3 &a = point(t[0]), &b = point(t[1]), &d = point(t[2]);
-      if (min_angle_sine_squared(a, b, d) < least) return false;
       const Vec3 n = (b - a).cross(d - a);
+      if (min_angle_sine_squared(a, b, d, n) < least) return false;
       const double facing = min_cos_ * n.norm();
       for (const std::int32_t x : t)
         if (original_.normal(x).dot(n) < facing) return false;
