@@ -167,6 +167,7 @@ class Collapser {
         owner_(mesh.vertices.size(), 0),
         bound_(mesh.vertices.size(), 0.0),
         checked_(mesh.vertices.size(), 0),
+        shapes_refuse_(mesh.vertices.size(), 0),
         target_(mesh.vertices.size(), -1),
         distance_bound_(mesh.triangles.size(), 0.0),
         target_bound_(mesh.vertices.size(), kUnbounded) {
@@ -370,7 +371,7 @@ class Collapser {
       rate(w, kept, w.fan_kept);  // collapse() left the kept vertex's fan there
       for (const std::int32_t c : w.fan_kept) {
         const std::int32_t n = vertex(next_corner(c));
-        if (!owns(w, n)) continue;
+        if (!owns(w, n) || shapes_refuse_[static_cast<std::size_t>(n)]) continue;
         const auto x = static_cast<std::size_t>(n);
         bound_[x] = std::min(bound_[x], error(n, kept));
         checked_[x] = 0;
@@ -467,10 +468,17 @@ class Collapser {
     for (const std::int32_t k : w.fan_check)
       before = std::min(before, sine_[static_cast<std::size_t>(k / 3)]);
     const double least = std::min(min_sine_squared_, before);
+    bool only_shapes = true;  // every candidate so far refused by its shape alone
     for (const auto& [e, kept, c] : w.candidates) {
       // The shapes first: they refuse most candidates (on the bunny 2.5 M of 4 M) and read only v0's
       // neighbours, which the link test would walk around v1 for.
-      if (!owns(w, kept) || !shape_ok(w, c, least) || !link_ok(w, c)) continue;
+      if (!owns(w, kept)) {
+        only_shapes = false;
+        continue;
+      }
+      if (!shape_ok(w, c, least)) continue;
+      only_shapes = false;
+      if (!link_ok(w, c)) continue;
       // The bound where it follows from the fans alone; else the checks against the original.
       const double bound = rule_ == DistanceRule::kCheckOnly ? kUnbounded : fan_distance_bound(w, c);
       if (bound == kUnbounded && (rule_ == DistanceRule::kBoundOnly || !hausdorff_ok(w, c) || !near_ok(w)))
@@ -482,6 +490,7 @@ class Collapser {
       return;
     }
     checked_[u] = 0;
+    shapes_refuse_[u] = only_shapes ? 1 : 0;
     w.heap.remove(v);
   }
 
@@ -647,6 +656,10 @@ class Collapser {
     const std::int32_t vr = vertex(e), left = c / 3, right = e / 3;
     const std::int32_t right0 = previous_corner(e), right1 = next_corner(e);  // v0's and v1's
     fan(v0, w.fan_check);
+    // Their fans change: v0's neighbours' triangles now end at v1 (vl's and vr's lose one), v1's grows.
+    for (const std::int32_t k : w.fan_check)
+      shapes_refuse_[static_cast<std::size_t>(vertex(next_corner(k)))] = 0;
+    shapes_refuse_[static_cast<std::size_t>(v1)] = 0;
     // The triangles across the removed ones' outer edges now face each other.
     const std::int32_t a = across(c), b = across(next_corner(c)), f = across(right0), g = across(right1);
     corners_[static_cast<std::size_t>(a)].opposite = b;
@@ -736,9 +749,12 @@ class Collapser {
   // The removed vertices, each on the list of the triangle it is nearest among those it was
   // distributed over: first_point_ per triangle, next_point_ per vertex, -1 ends a list.
   std::vector<std::int32_t> first_point_, next_point_;
-  std::vector<std::int32_t> owner_;   // per vertex: the part whose worker may move it; -1: none
-  std::vector<double> bound_;         // per vertex: at most the error of each of its collapses
-  std::vector<char> checked_;         // target_ passed all the rules and the heap holds its error
+  std::vector<std::int32_t> owner_;  // per vertex: the part whose worker may move it; -1: none
+  std::vector<double> bound_;        // per vertex: at most the error of each of its collapses
+  std::vector<char> checked_;        // target_ passed all the rules and the heap holds its error
+  // Per vertex: every collapse of it failed its shape on its fan as it is. A shape depends on the fan
+  // alone, so the vertex stays out of the heap until its fan changes.
+  std::vector<char> shapes_refuse_;
   std::vector<std::int32_t> target_;  // per vertex: the collapse chosen
   // Per triangle: at most its distance from the original surface, both ways, as far as
   // fan_distance_bound() can tell; kUnbounded where the checks at points against it passed instead.
