@@ -302,6 +302,7 @@ class Collapser {
     NearCache cache;
     // Scratch, kept to save allocations.
     std::vector<std::int32_t> scratch, fan_rated, fan_check, fan_kept, moved;
+    std::vector<std::int32_t> moved_from;  // each moved point's place in fan_kept before, or -1
     std::vector<std::tuple<double, std::int32_t, std::int32_t>> candidates;  // (error, v1, corner)
     std::vector<NewTriangle> ring;
     std::vector<Plane> ring_planes;  // of ring's triangles in hausdorff_ok(), of fan_kept's in collapse()
@@ -697,31 +698,44 @@ class Collapser {
     }
     // The removed vertices on the changed triangles, and v0, each go to the nearest triangle around v1.
     w.moved.clear();
-    const auto take = [&](std::int32_t t) {
+    w.moved_from.clear();
+    const auto take = [&](std::int32_t t, std::int32_t from) {
       for (std::int32_t p = first_point_[static_cast<std::size_t>(t)]; p >= 0;
-           p = next_point_[static_cast<std::size_t>(p)])
+           p = next_point_[static_cast<std::size_t>(p)]) {
         w.moved.push_back(p);
+        w.moved_from.push_back(from);
+      }
       first_point_[static_cast<std::size_t>(t)] = -1;
     };
-    take(left);
-    take(right);
-    for (const std::int32_t k : w.fan_kept) take(k / 3);
+    take(left, -1);
+    take(right, -1);
+    for (std::size_t i = 0; i < w.fan_kept.size(); ++i) take(w.fan_kept[i] / 3, static_cast<std::int32_t>(i));
     w.moved.push_back(v0);
-    for (const std::int32_t p : w.moved) {
-      double best = std::numeric_limits<double>::infinity();
-      std::int32_t nearest = w.fan_kept.front() / 3;
+    w.moved_from.push_back(-1);
+    // The nearest triangle, the first in fan order among equals. A point's own triangle, where it is still
+    // there, goes first: mostly the nearest still, it lets the planes rule out most of the others.
+    const auto distance2_to = [&](std::int32_t p, std::size_t i) {
+      const std::int32_t t = w.fan_kept[i] / 3;
+      return (closest_point_on_triangle(point(p), point(vertex(3 * t)), point(vertex(3 * t + 1)),
+                                        point(vertex(3 * t + 2)), w.ring_planes[i].shape) -
+              point(p))
+          .squaredNorm();
+    };
+    for (std::size_t m = 0; m < w.moved.size(); ++m) {
+      const std::int32_t p = w.moved[m], from = w.moved_from[m];
+      double best = from >= 0 ? distance2_to(p, static_cast<std::size_t>(from))
+                              : std::numeric_limits<double>::infinity();
+      std::size_t nearest_at = from >= 0 ? static_cast<std::size_t>(from) : 0;
       for (std::size_t i = 0; i < w.fan_kept.size(); ++i) {
-        const std::int32_t t = w.fan_kept[i] / 3;
-        const Vec3& corner = point(vertex(3 * t));
-        const double plane = w.ring_planes[i].normal.dot(point(p) - corner);
+        if (static_cast<std::int32_t>(i) == from) continue;
+        const double plane = w.ring_planes[i].normal.dot(point(p) - point(vertex(w.fan_kept[i] / 3 * 3)));
         if (plane * plane > best * (1.0 + 1e-9)) continue;
-        const Vec3 q = closest_point_on_triangle(point(p), corner, point(vertex(3 * t + 1)),
-                                                 point(vertex(3 * t + 2)), w.ring_planes[i].shape);
-        if (const double d2 = (q - point(p)).squaredNorm(); d2 < best) {
+        if (const double d2 = distance2_to(p, i); d2 < best || (d2 == best && i < nearest_at)) {
           best = d2;
-          nearest = t;
+          nearest_at = i;
         }
       }
+      const std::int32_t nearest = w.fan_kept[nearest_at] / 3;
       next_point_[static_cast<std::size_t>(p)] = first_point_[static_cast<std::size_t>(nearest)];
       first_point_[static_cast<std::size_t>(nearest)] = p;
     }
