@@ -17,6 +17,7 @@
 #include <bit>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numbers>
 #include <numeric>
 #include <stdexcept>
@@ -55,87 +56,79 @@ struct Quadric {
   }
 };
 
-// A min-heap of vertices, each vertex's place kept so that its key can change. Keys are errors
-// rounded down to four octaves (every fourth exponent of a non-negative double), then the vertex:
-// collapses within a factor of 16 of each other go in vertex order, so that those in one part of the
-// mesh go one after another, while its data is in the cache. The key and the vertex are one integer,
-// so a comparison reads no other array. On the bunny's 1.5 M triangles, keys of half an octave took
-// bench_reduce from 9.7-10.3 s (exact errors) to 7.7 s; four octaves then took it from 5.4-6.0 s to
-// 4.8-5.4 s (runs in turn), at the same deviation, triangle count and smallest angle, with 8 % more
-// triangles with an angle under 10 degrees (docs/benchmarks.md "The reduction's loop").
-class VertexHeap {
+// The vertices waiting to collapse, least key first. Keys are errors rounded down to four octaves
+// (every fourth exponent of a non-negative double), ties by vertex: collapses within a factor of 16 of
+// each other go in vertex order, so that those in one part of the mesh go one after another, while its
+// data is in the cache. On the bunny's 1.5 M triangles, keys of half an octave took bench_reduce from
+// 9.7-10.3 s (exact errors) to 7.7 s; four octaves then took it from 5.4-6.0 s to 4.8-5.4 s (runs in
+// turn), at the same deviation, triangle count and smallest angle, with 8 % more triangles with an
+// angle under 10 degrees (docs/benchmarks.md "The reduction's loop"). With so few distinct keys, each
+// is a set of vertices as a bitmap with two levels of summary words: the least vertex of the least key
+// is three word scans away, and a vertex goes in or out by setting a few bits, where a binary heap
+// moved it through some twenty levels.
+class VertexQueue {
  public:
-  explicit VertexHeap(std::size_t vertices) : place_(vertices, -1) {}
+  explicit VertexQueue(std::size_t vertices) : key_of_(vertices, kNone), words_((vertices + 63) / 64) {}
 
-  bool empty() const { return heap_.empty(); }
-  std::int32_t top() const { return vertex_of(heap_.front()); }
+  bool empty() const { return size_ == 0; }
+  std::int32_t top() const {
+    std::size_t k = 0;
+    while (occupied_[k] == 0) ++k;
+    const Bits& b = *keys_[64 * k + static_cast<std::size_t>(std::countr_zero(occupied_[k]))];
+    std::size_t i = 0;
+    while (b.top[i] == 0) ++i;
+    const std::size_t j = 64 * i + static_cast<std::size_t>(std::countr_zero(b.top[i]));
+    const std::size_t w = 64 * j + static_cast<std::size_t>(std::countr_zero(b.middle[j]));
+    return static_cast<std::int32_t>(64 * w + static_cast<std::size_t>(std::countr_zero(b.bottom[w])));
+  }
   std::vector<std::int32_t> vertices() const {
     std::vector<std::int32_t> out;
-    out.reserve(heap_.size());
-    for (const std::uint64_t k : heap_) out.push_back(vertex_of(k));
+    for (std::size_t v = 0; v < key_of_.size(); ++v)
+      if (key_of_[v] != kNone) out.push_back(static_cast<std::int32_t>(v));
     return out;
   }
 
   void set(std::int32_t v, double error) {
-    const std::uint64_t key =
-        (std::bit_cast<std::uint64_t>(error) >> 54) << 32 | static_cast<std::uint32_t>(v);
+    const auto key = static_cast<std::uint16_t>(std::bit_cast<std::uint64_t>(error) >> 54);
     const auto u = static_cast<std::size_t>(v);
-    if (place_[u] < 0) {
-      heap_.push_back(key);
-      up(heap_.size() - 1);
-      return;
-    }
-    const auto i = static_cast<std::size_t>(place_[u]);
-    const bool lower = key < heap_[i];
-    heap_[i] = key;
-    if (lower)
-      up(i);
-    else
-      down(i);
+    if (key_of_[u] == key) return;
+    remove(v);
+    key_of_[u] = key;
+    if (!keys_[key]) keys_[key] = std::make_unique<Bits>(words_);
+    Bits& b = *keys_[key];
+    if (b.count++ == 0) occupied_[key / 64] |= std::uint64_t{1} << (key % 64);
+    b.bottom[u / 64] |= std::uint64_t{1} << (u % 64);
+    b.middle[u / 4096] |= std::uint64_t{1} << (u / 64 % 64);
+    b.top[u / 262144] |= std::uint64_t{1} << (u / 4096 % 64);
+    ++size_;
   }
   void remove(std::int32_t v) {
     const auto u = static_cast<std::size_t>(v);
-    if (place_[u] < 0) return;
-    const auto i = static_cast<std::size_t>(place_[u]);
-    place_[u] = -1;
-    const std::uint64_t last = heap_.back();
-    heap_.pop_back();
-    if (i == heap_.size()) return;
-    heap_[i] = last;
-    place_[static_cast<std::size_t>(vertex_of(last))] = static_cast<std::int32_t>(i);
-    up(i);
-    down(static_cast<std::size_t>(place_[static_cast<std::size_t>(vertex_of(last))]));
+    const std::uint16_t key = key_of_[u];
+    if (key == kNone) return;
+    key_of_[u] = kNone;
+    --size_;
+    Bits& b = *keys_[key];
+    if (--b.count == 0) occupied_[key / 64] &= ~(std::uint64_t{1} << (key % 64));
+    if ((b.bottom[u / 64] &= ~(std::uint64_t{1} << (u % 64))) != 0) return;
+    if ((b.middle[u / 4096] &= ~(std::uint64_t{1} << (u / 64 % 64))) != 0) return;
+    b.top[u / 262144] &= ~(std::uint64_t{1} << (u / 4096 % 64));
   }
 
  private:
-  static std::int32_t vertex_of(std::uint64_t key) { return static_cast<std::int32_t>(key & 0xffffffffU); }
-  void put(std::size_t i, std::uint64_t key) {
-    heap_[i] = key;
-    place_[static_cast<std::size_t>(vertex_of(key))] = static_cast<std::int32_t>(i);
-  }
-  void up(std::size_t i) {
-    const std::uint64_t key = heap_[i];
-    while (i > 0 && key < heap_[(i - 1) / 2]) {
-      put(i, heap_[(i - 1) / 2]);
-      i = (i - 1) / 2;
-    }
-    put(i, key);
-  }
-  void down(std::size_t i) {
-    const std::uint64_t key = heap_[i];
-    for (;;) {
-      std::size_t child = 2 * i + 1;
-      if (child >= heap_.size()) break;
-      if (child + 1 < heap_.size() && heap_[child + 1] < heap_[child]) ++child;
-      if (!(heap_[child] < key)) break;
-      put(i, heap_[child]);
-      i = child;
-    }
-    put(i, key);
-  }
-
-  std::vector<std::uint64_t> heap_;  // (rounded error << 32) | vertex
-  std::vector<std::int32_t> place_;
+  static constexpr std::uint16_t kNone = 0xffff;
+  static constexpr std::size_t kKeys = 512;  // the top 10 bits of a non-negative double: sign 0
+  struct Bits {
+    explicit Bits(std::size_t words)
+        : bottom(words, 0), middle((words + 63) / 64, 0), top((words + 4095) / 4096, 0) {}
+    std::vector<std::uint64_t> bottom, middle, top;  // a vertex; a word of bottom; a word of middle
+    std::size_t count = 0;
+  };
+  std::vector<std::uint16_t> key_of_;  // per vertex, kNone where out
+  std::size_t words_;
+  std::array<std::unique_ptr<Bits>, kKeys> keys_{};
+  std::array<std::uint64_t, kKeys / 64> occupied_{};
+  std::size_t size_ = 0;
 };
 
 // A collapse is named by the corner c of v0 in the triangle that runs v0 -> v1 -> vl; the triangle
@@ -296,7 +289,7 @@ class Collapser {
     Worker(int owned_part, std::size_t vertices, std::size_t questions)
         : part(owned_part), heap(vertices), mark(vertices, 0), cache(questions) {}
     int part;
-    VertexHeap heap;
+    VertexQueue heap;
     std::vector<std::uint32_t> mark;  // stamp on v0's neighbours during a link test
     std::uint32_t stamp = 0;
     NearCache cache;
