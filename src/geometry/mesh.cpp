@@ -249,14 +249,38 @@ std::vector<Edge> boundary_edges(std::size_t vertex_count, const std::vector<Tri
   return out;
 }
 
+void check_vertex_indices(const TriangleMesh& mesh) {
+  const std::size_t nv = mesh.vertices.size();
+  const bool in_range = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, mesh.triangles.size()), true,
+      [&](const tbb::blocked_range<std::size_t>& r, bool ok) {
+        for (std::size_t f = r.begin(); ok && f != r.end(); ++f)
+          for (const std::int32_t v : mesh.triangles[f])
+            ok = ok && v >= 0 && static_cast<std::size_t>(v) < nv;
+        return ok;
+      },
+      std::logical_and<>());
+  if (!in_range) throw std::out_of_range("analyze_topology: a vertex index is out of range");
+}
+
 MeshTopology analyze_topology(const TriangleMesh& mesh, const StageProgress& progress) {
+  const std::size_t nf = mesh.triangles.size();
+  const std::size_t nv = mesh.vertices.size();
+  // 32-bit vertex -> triangle rows: 3 corners per triangle must fit.
+  if (3 * nf > std::numeric_limits<std::uint32_t>::max() || nv >= std::size_t{1} << 31)
+    throw std::invalid_argument("analyze_topology: over 1.4 billion triangles or 2^31 vertices");
+  check_vertex_indices(mesh);
+  progress.advance(0.1);
+  const VertexTriangles at = vertex_triangles(nv, mesh.triangles);
+  return analyze_topology(mesh, at, progress.part(0.4, 1.0));
+}
+
+MeshTopology analyze_topology(const TriangleMesh& mesh, const VertexTriangles& at,
+                              const StageProgress& progress) {
   MeshTopology topo;
   const std::size_t nf = mesh.triangles.size();
   const std::size_t nv = mesh.vertices.size();
   topo.triangles = static_cast<std::int64_t>(nf);
-  // 32-bit vertex -> triangle rows: 3 corners per triangle must fit.
-  if (3 * nf > std::numeric_limits<std::uint32_t>::max() || nv >= std::size_t{1} << 31)
-    throw std::invalid_argument("analyze_topology: over 1.4 billion triangles or 2^31 vertices");
 
   struct TriangleCounts {
     std::int64_t bad_indices = 0, repeated_index = 0, zero_area = 0;
@@ -290,9 +314,7 @@ MeshTopology analyze_topology(const TriangleMesh& mesh, const StageProgress& pro
   topo.degenerate_triangles = tc.repeated_index + tc.zero_area;
   topo.min_angle_degrees = nf ? std::acos(std::clamp(tc.min_cos, -1.0, 1.0)) * 180.0 / std::numbers::pi : 0.0;
 
-  progress.advance(0.2);
-  const VertexTriangles at = vertex_triangles(nv, mesh.triangles);
-  progress.advance(0.4);
+  progress.advance(0.3);
   {
     ConcurrentDisjointSets components(nf);
     const VertexCounts counts = count_at_vertices(nv, mesh.triangles, at, &components, false);

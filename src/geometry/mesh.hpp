@@ -70,8 +70,14 @@ struct VertexTriangles {
 };
 VertexTriangles vertex_triangles(std::size_t vertex_count, const std::vector<Triangle>& triangles);
 
+// Throws std::out_of_range for a vertex index outside the mesh.
+void check_vertex_indices(const TriangleMesh& mesh);
+
 // Throws std::out_of_range for a vertex index outside the mesh. The result does not depend on the order
 // of the triangles or the thread count.
 MeshTopology analyze_topology(const TriangleMesh& mesh, const StageProgress& progress = {});
+// The same with the mesh's vertex_triangles(), where the caller has them (so its indices are in range).
+MeshTopology analyze_topology(const TriangleMesh& mesh, const VertexTriangles& around,
+                              const StageProgress& progress = {});
 
 }  // namespace poreshell

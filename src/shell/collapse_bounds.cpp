@@ -22,8 +22,7 @@ constexpr std::size_t kMaxVisits = 1024;
 
 }  // namespace
 
-std::vector<std::int32_t> opposite_corners(const TriangleMesh& mesh) {
-  const VertexTriangles at = vertex_triangles(mesh.vertices.size(), mesh.triangles);
+std::vector<std::int32_t> opposite_corners(const TriangleMesh& mesh, const VertexTriangles& at) {
   const auto vertex = [&](std::int32_t c) { return mesh.triangles[static_cast<std::size_t>(c / 3)][c % 3]; };
   std::vector<std::int32_t> opposite(3 * mesh.triangles.size(), -1);
   // Corner c faces the edge u -> w of its triangle; the corner across faces w -> u, in the triangle
@@ -47,8 +46,9 @@ std::vector<std::int32_t> opposite_corners(const TriangleMesh& mesh) {
   return opposite;
 }
 
-OriginalSurface::OriginalSurface(const TriangleMesh& mesh, const std::vector<std::int32_t>& opposite)
-    : mesh_(mesh), opposite_(opposite), around_(vertex_triangles(mesh.vertices.size(), mesh.triangles)) {
+OriginalSurface::OriginalSurface(const TriangleMesh& mesh, const std::vector<std::int32_t>& opposite,
+                                 VertexTriangles around)
+    : mesh_(mesh), opposite_(opposite), around_(std::move(around)) {
   bounds_.resize(mesh.triangles.size());
   tbb::parallel_for(std::size_t{0}, bounds_.size(), [&](std::size_t f) {
     const auto& t = mesh.triangles[f];

@@ -25,7 +25,11 @@ inline std::int32_t previous_corner(std::int32_t c) {
 
 // For each corner of a closed, 2-manifold, consistently oriented mesh, the corner across the edge it
 // faces: the other triangle's corner that faces the same edge.
-std::vector<std::int32_t> opposite_corners(const TriangleMesh& mesh);
+// `around` is vertex_triangles() of the mesh, where the caller has it.
+std::vector<std::int32_t> opposite_corners(const TriangleMesh& mesh, const VertexTriangles& around);
+inline std::vector<std::int32_t> opposite_corners(const TriangleMesh& mesh) {
+  return opposite_corners(mesh, vertex_triangles(mesh.vertices.size(), mesh.triangles));
+}
 
 // Square of the sine of the smallest angle, (2 area * shortest edge / (product of the edges))^2: 0 for
 // a degenerate triangle, 3/4 for an equilateral one, whatever the scale. Squared and inline, it needs
@@ -47,8 +51,9 @@ inline double min_angle_sine_squared(const Vec3& a, const Vec3& b, const Vec3& c
 // surface (building one for the bunny's 1.5 M-triangle shell took 0.7 s, a tenth of its reduction).
 class OriginalSurface {
  public:
-  // `opposite` is opposite_corners(mesh); both outlive this.
-  OriginalSurface(const TriangleMesh& mesh, const std::vector<std::int32_t>& opposite);
+  // `opposite` is opposite_corners(mesh); both outlive this. `around` is vertex_triangles() of the mesh.
+  OriginalSurface(const TriangleMesh& mesh, const std::vector<std::int32_t>& opposite,
+                  VertexTriangles around);
 
   const Vec3& normal(std::int32_t v) const { return normals_[static_cast<std::size_t>(v)]; }
 

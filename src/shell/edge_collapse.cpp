@@ -217,10 +217,11 @@ class Collapser {
         part_counts[p] = worker.counts;
       });
       // The last worker tries the vertices along the cuts and those still in a part's heap; the
-      // others failed every collapse and stay out until a collapse next to them, as in one run.
+      // others failed every collapse and stay out until a collapse next to them, as in one run. A part's
+      // vertex away from the cuts keeps what its part found: nothing around it has changed since.
       std::fill(candidate.begin(), candidate.end(), 0);
       for (const auto& vertices : left)
-        for (const std::int32_t v : vertices) candidate[static_cast<std::size_t>(v)] = 1;
+        for (const std::int32_t v : vertices) candidate[static_cast<std::size_t>(v)] = kAsLeft;
       std::vector<std::int32_t> around;
       for (std::size_t v = 0; v < points_.size(); ++v)
         if (owner_[v] < 0 && vertex_corner_[v] >= 0) {
@@ -262,6 +263,7 @@ class Collapser {
   // "Triangle reduction on flat arrays"); the count is fixed, not the thread count, so that the
   // result is too.
   static constexpr std::size_t kParallelTriangles = 10'000;
+  static constexpr char kAsLeft = 2;  // a candidate for the last worker with its part's rating
   static constexpr int kParts = 4;
 
   // A triangle the collapse makes, its first corner where v0 was (now v1).
@@ -341,9 +343,13 @@ class Collapser {
   // gone or none of its vertices can move; returns how many triangles went.
   std::size_t collapse_until(Worker& w, std::size_t quota, const std::vector<char>& candidate,
                              LoopProgress& loop) {
-    for (std::size_t v = 0; v < points_.size(); ++v)
-      if (candidate[v] && vertex_corner_[v] >= 0 && owns(w, static_cast<std::int32_t>(v)))
+    for (std::size_t v = 0; v < points_.size(); ++v) {
+      if (!candidate[v] || vertex_corner_[v] < 0 || !owns(w, static_cast<std::int32_t>(v))) continue;
+      if (candidate[v] == kAsLeft)
+        w.heap.set(static_cast<std::int32_t>(v), checked_[v] ? error(target_[v]) : bound_[v]);
+      else
         rate(w, static_cast<std::int32_t>(v));
+    }
     std::size_t removed = 0, unreported = 0;
     std::int32_t just_chosen = -1;  // its collapse passed the link test on the mesh as it still is
     while (removed < quota && !w.heap.empty()) {

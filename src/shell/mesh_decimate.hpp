@@ -50,7 +50,8 @@ struct DecimateResult {
 
 // Reduces `mesh` in place to at most options.max_triangles triangles, as far as the distance bound
 // allows, by edge collapses onto existing vertices (every vertex kept is an original one), in a
-// deterministic order. A mesh with no more triangles than the target is left untouched.
+// deterministic order. The result's vertices are in Morton order, its triangles by their first vertex.
+// A mesh with no more triangles than the target is left untouched.
 // Throws InputError for bad options or a vertex coordinate that is not a finite number; std::runtime_error,
 // leaving the mesh as it was, if the input is not a closed, manifold, outward oriented mesh without
 // degenerate triangles or if the result fails a check.
