@@ -1,7 +1,7 @@
 #include "shell/edge_collapse.hpp"
 
 // A corner table (each corner's vertex, and the corner across the edge it faces), error quadrics and
-// an indexed heap of vertices per worker, the workers on separate parts of the mesh at once. OpenMesh's
+// a queue of vertices by error per worker, the workers on separate parts of the mesh at once. OpenMesh's
 // DecimaterT made the same collapses under the same rules, on one core, in 2.3-2.6 times the time of
 // one worker here; the parts on 2 cores take 0.54-0.68 of one worker's time (docs/benchmarks.md
 // "Triangle reduction on flat arrays"). Where a collapse's distance from the original follows from
@@ -213,10 +213,10 @@ class Collapser {
             static_cast<std::size_t>(0.98 * static_cast<double>(live - target) *
                                      static_cast<double>(share[p]) / static_cast<double>(live));
         removed[p] = collapse_until(worker, quota, candidate, loop);
-        left[p] = worker.heap.vertices();
+        left[p] = worker.queue.vertices();
         part_counts[p] = worker.counts;
       });
-      // The last worker tries the vertices along the cuts and those still in a part's heap; the
+      // The last worker tries the vertices along the cuts and those still in a part's queue; the
       // others failed every collapse and stay out until a collapse next to them, as in one run. A part's
       // vertex away from the cuts keeps what its part found: nothing around it has changed since.
       std::fill(candidate.begin(), candidate.end(), 0);
@@ -289,9 +289,9 @@ class Collapser {
   struct Worker {
     // `questions`: about how many distinct ones the cache should hold (NearCache).
     Worker(int owned_part, std::size_t vertices, std::size_t questions)
-        : part(owned_part), heap(vertices), mark(vertices, 0), cache(questions) {}
+        : part(owned_part), queue(vertices), mark(vertices, 0), cache(questions) {}
     int part;
-    VertexQueue heap;
+    VertexQueue queue;
     std::vector<std::uint32_t> mark;  // stamp on v0's neighbours during a link test
     std::uint32_t stamp = 0;
     NearCache cache;
@@ -346,14 +346,14 @@ class Collapser {
     for (std::size_t v = 0; v < points_.size(); ++v) {
       if (!candidate[v] || vertex_corner_[v] < 0 || !owns(w, static_cast<std::int32_t>(v))) continue;
       if (candidate[v] == kAsLeft)
-        w.heap.set(static_cast<std::int32_t>(v), checked_[v] ? error(target_[v]) : bound_[v]);
+        w.queue.set(static_cast<std::int32_t>(v), checked_[v] ? error(target_[v]) : bound_[v]);
       else
         rate(w, static_cast<std::int32_t>(v));
     }
     std::size_t removed = 0, unreported = 0;
     std::int32_t just_chosen = -1;  // its collapse passed the link test on the mesh as it still is
-    while (removed < quota && !w.heap.empty()) {
-      const std::int32_t v = w.heap.top();
+    while (removed < quota && !w.queue.empty()) {
+      const std::int32_t v = w.queue.top();
       const auto u = static_cast<std::size_t>(v);
       if (!checked_[u] || vertex(target_[u]) != v || (v != just_chosen && !topology_ok(w, target_[u]))) {
         choose(w, v);
@@ -375,7 +375,7 @@ class Collapser {
         const auto x = static_cast<std::size_t>(n);
         bound_[x] = std::min(bound_[x], error(n, kept));
         checked_[x] = 0;
-        w.heap.set(n, bound_[x]);
+        w.queue.set(n, bound_[x]);
       }
       if (++unreported == kReportEvery) {
         loop.done(unreported);
@@ -440,7 +440,7 @@ class Collapser {
   }
 
   // The least error of v's collapses: a lower bound on the collapse choose() would make, which is
-  // all the heap needs until v comes to its top (so the link condition, which costs a walk around
+  // all the queue needs until v comes to its top (so the link condition, which costs a walk around
   // each neighbour, waits until then too).
   void rate(Worker& w, std::int32_t v) {
     fan(v, w.fan_rated);
@@ -451,11 +451,11 @@ class Collapser {
     checked_[u] = 0;
     bound_[u] = std::numeric_limits<double>::infinity();
     for (const std::int32_t c : corners) bound_[u] = std::min(bound_[u], error(c));
-    w.heap.set(v, bound_[u]);
+    w.queue.set(v, bound_[u]);
   }
 
   // v's least-error collapse onto a vertex the worker owns that passes all the rules, or none: v
-  // leaves the heap until a collapse next to it rates it again.
+  // leaves the queue until a collapse next to it rates it again.
   void choose(Worker& w, std::int32_t v) {
     const auto u = static_cast<std::size_t>(v);
     mark_neighbours(w, v);
@@ -486,12 +486,12 @@ class Collapser {
       target_bound_[u] = bound;
       checked_[u] = 1;
       target_[u] = c;
-      w.heap.set(v, e);
+      w.queue.set(v, e);
       return;
     }
     checked_[u] = 0;
     shapes_refuse_[u] = only_shapes ? 1 : 0;
-    w.heap.remove(v);
+    w.queue.remove(v);
   }
 
   // Angles and normals of the triangles the collapse changes; keeps them in the worker's ring for
@@ -676,7 +676,7 @@ class Collapser {
     vertex_corner_[static_cast<std::size_t>(v1)] = corner_in(a / 3, v1);
     vertex_corner_[static_cast<std::size_t>(vl)] = corner_in(a / 3, vl);
     vertex_corner_[static_cast<std::size_t>(vr)] = corner_in(f / 3, vr);
-    w.heap.remove(v0);
+    w.queue.remove(v0);
     // v1 gains v0's neighbours but the shared vl and vr (the link condition); they lose v0.
     valence_[static_cast<std::size_t>(v1)] += valence_[static_cast<std::size_t>(v0)] - 4;
     --valence_[static_cast<std::size_t>(vl)];
@@ -764,9 +764,9 @@ class Collapser {
   std::vector<std::int32_t> first_point_, next_point_;
   std::vector<std::int32_t> owner_;  // per vertex: the part whose worker may move it; -1: none
   std::vector<double> bound_;        // per vertex: at most the error of each of its collapses
-  std::vector<char> checked_;        // target_ passed all the rules and the heap holds its error
+  std::vector<char> checked_;        // target_ passed all the rules and the queue holds its error
   // Per vertex: every collapse of it failed its shape on its fan as it is. A shape depends on the fan
-  // alone, so the vertex stays out of the heap until its fan changes.
+  // alone, so the vertex stays out of the queue until its fan changes.
   std::vector<char> shapes_refuse_;
   std::vector<std::int32_t> target_;  // per vertex: the collapse chosen
   // Per triangle: at most its distance from the original surface, both ways, as far as
