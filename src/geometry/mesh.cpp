@@ -19,6 +19,8 @@
 #include <string>
 #include <utility>
 
+#include "core/disjoint_sets.hpp"
+
 namespace poreshell {
 namespace {
 
@@ -56,27 +58,6 @@ class ConcurrentDisjointSets {
   std::vector<std::atomic<std::uint32_t>> parent_;
 };
 
-// Union-find over a vertex's few incident triangles.
-class SmallDisjointSets {
- public:
-  void reset(std::size_t n) {
-    parent_.resize(n);
-    std::iota(parent_.begin(), parent_.end(), 0u);
-  }
-  std::uint32_t find(std::uint32_t x) {
-    while (parent_[x] != x) x = parent_[x] = parent_[parent_[x]];
-    return x;
-  }
-  void unite(std::uint32_t a, std::uint32_t b) {
-    a = find(a);
-    b = find(b);
-    if (a != b) parent_[std::max(a, b)] = std::min(a, b);
-  }
-
- private:
-  std::vector<std::uint32_t> parent_;
-};
-
 // What the pass over the vertices counts.
 struct VertexCounts {
   std::int64_t edges = 0, boundary_edges = 0, nonmanifold_edges = 0, misoriented_edges = 0;
@@ -112,7 +93,7 @@ VertexCounts count_at_vertices(std::size_t nv, const std::vector<Triangle>& tria
       tbb::blocked_range<std::size_t>(0, nv), VertexCounts{},
       [&](const tbb::blocked_range<std::size_t>& r, VertexCounts counts) {
         std::vector<Side> sides;
-        SmallDisjointSets fan;
+        DisjointSets fan;  // of v's few triangles
         for (std::size_t v = r.begin(); v != r.end(); ++v) {
           const std::uint32_t first = at.start[v], n = at.start[v + 1] - first;
           if (n == 0) continue;
@@ -130,7 +111,8 @@ VertexCounts count_at_vertices(std::size_t nv, const std::vector<Triangle>& tria
           for (std::size_t i = 0; i < sides.size();) {
             std::size_t j = i + 1;
             while (j < sides.size() && sides[j].other == sides[i].other) ++j;
-            for (std::size_t k = i + 1; k < j; ++k) fan.unite(sides[i].local, sides[k].local);
+            for (std::size_t k = i + 1; k < j; ++k)
+              fan.unite(static_cast<std::int32_t>(sides[i].local), static_cast<std::int32_t>(sides[k].local));
             if (sides[i].other > static_cast<std::int32_t>(v)) {
               const std::size_t m = j - i;
               ++counts.edges;
@@ -147,7 +129,7 @@ VertexCounts count_at_vertices(std::size_t nv, const std::vector<Triangle>& tria
             i = j;
           }
           for (std::uint32_t i = 1; i < n; ++i)
-            if (fan.find(i) != 0) {
+            if (fan.find(static_cast<std::int32_t>(i)) != 0) {
               ++counts.nonmanifold_vertices;
               break;
             }
@@ -155,18 +137,6 @@ VertexCounts count_at_vertices(std::size_t nv, const std::vector<Triangle>& tria
         return counts;
       },
       [](VertexCounts a, const VertexCounts& b) { return a += b; });
-}
-
-void check_indices(std::size_t nv, const std::vector<Triangle>& triangles, const char* what) {
-  const bool bad = tbb::parallel_reduce(
-      tbb::blocked_range<std::size_t>(0, triangles.size()), false,
-      [&](const tbb::blocked_range<std::size_t>& r, bool found) {
-        for (std::size_t f = r.begin(); f != r.end() && !found; ++f)
-          for (std::int32_t v : triangles[f]) found = found || v < 0 || static_cast<std::size_t>(v) >= nv;
-        return found;
-      },
-      [](bool a, bool b) { return a || b; });
-  if (bad) throw std::out_of_range(std::string(what) + ": a vertex index is out of range");
 }
 
 // Cosine of a triangle's smallest angle (1 for a zero-length side).
@@ -183,6 +153,18 @@ double largest_angle_cosine(const TriangleMesh& mesh, const std::array<std::int3
 }
 
 }  // namespace
+
+void check_vertex_indices(std::size_t nv, const std::vector<Triangle>& triangles, const char* what) {
+  const bool bad = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, triangles.size()), false,
+      [&](const tbb::blocked_range<std::size_t>& r, bool found) {
+        for (std::size_t f = r.begin(); f != r.end() && !found; ++f)
+          for (std::int32_t v : triangles[f]) found = found || v < 0 || static_cast<std::size_t>(v) >= nv;
+        return found;
+      },
+      [](bool a, bool b) { return a || b; });
+  if (bad) throw std::out_of_range(std::string(what) + ": a vertex index is out of range");
+}
 
 VertexTriangles vertex_triangles(std::size_t nv, const std::vector<Triangle>& triangles) {
   const std::size_t nf = triangles.size();
@@ -238,7 +220,7 @@ double surface_area(const TriangleMesh& mesh) {
 }
 
 std::vector<Edge> boundary_edges(std::size_t vertex_count, const std::vector<Triangle>& triangles) {
-  check_indices(vertex_count, triangles, "boundary_edges");
+  check_vertex_indices(vertex_count, triangles, "boundary_edges");
   if (3 * triangles.size() > std::numeric_limits<std::uint32_t>::max() || vertex_count >= std::size_t{1}
                                                                                               << 31)
     throw std::invalid_argument("boundary_edges: over 1.4 billion triangles or 2^31 vertices");
@@ -249,27 +231,13 @@ std::vector<Edge> boundary_edges(std::size_t vertex_count, const std::vector<Tri
   return out;
 }
 
-void check_vertex_indices(const TriangleMesh& mesh) {
-  const std::size_t nv = mesh.vertices.size();
-  const bool in_range = tbb::parallel_reduce(
-      tbb::blocked_range<std::size_t>(0, mesh.triangles.size()), true,
-      [&](const tbb::blocked_range<std::size_t>& r, bool ok) {
-        for (std::size_t f = r.begin(); ok && f != r.end(); ++f)
-          for (const std::int32_t v : mesh.triangles[f])
-            ok = ok && v >= 0 && static_cast<std::size_t>(v) < nv;
-        return ok;
-      },
-      std::logical_and<>());
-  if (!in_range) throw std::out_of_range("analyze_topology: a vertex index is out of range");
-}
-
 MeshTopology analyze_topology(const TriangleMesh& mesh, const StageProgress& progress) {
   const std::size_t nf = mesh.triangles.size();
   const std::size_t nv = mesh.vertices.size();
   // 32-bit vertex -> triangle rows: 3 corners per triangle must fit.
   if (3 * nf > std::numeric_limits<std::uint32_t>::max() || nv >= std::size_t{1} << 31)
     throw std::invalid_argument("analyze_topology: over 1.4 billion triangles or 2^31 vertices");
-  check_vertex_indices(mesh);
+  check_vertex_indices(nv, mesh.triangles, "analyze_topology");
   progress.advance(0.1);
   const VertexTriangles at = vertex_triangles(nv, mesh.triangles);
   return analyze_topology(mesh, at, progress.part(0.4, 1.0));
@@ -283,7 +251,7 @@ MeshTopology analyze_topology(const TriangleMesh& mesh, const VertexTriangles& a
   topo.triangles = static_cast<std::int64_t>(nf);
 
   struct TriangleCounts {
-    std::int64_t bad_indices = 0, repeated_index = 0, zero_area = 0;
+    std::int64_t repeated_index = 0, zero_area = 0;
     double min_cos = -1.0;  // cosine of the smallest angle seen
   };
   const TriangleCounts tc = tbb::parallel_reduce(
@@ -291,10 +259,7 @@ MeshTopology analyze_topology(const TriangleMesh& mesh, const VertexTriangles& a
       [&](const tbb::blocked_range<std::size_t>& r, TriangleCounts c) {
         for (std::size_t f = r.begin(); f != r.end(); ++f) {
           const auto& t = mesh.triangles[f];
-          if (std::any_of(t.begin(), t.end(),
-                          [&](std::int32_t v) { return v < 0 || static_cast<std::size_t>(v) >= nv; })) {
-            ++c.bad_indices;
-          } else if (has_repeated_vertex(t)) {
+          if (has_repeated_vertex(t)) {
             ++c.repeated_index;  // its "edges" (a, a) are not edges
           } else {
             c.zero_area += is_degenerate(mesh, t);
@@ -304,13 +269,11 @@ MeshTopology analyze_topology(const TriangleMesh& mesh, const VertexTriangles& a
         return c;
       },
       [](TriangleCounts a, const TriangleCounts& b) {
-        a.bad_indices += b.bad_indices;
         a.repeated_index += b.repeated_index;
         a.zero_area += b.zero_area;
         a.min_cos = std::max(a.min_cos, b.min_cos);
         return a;
       });
-  if (tc.bad_indices > 0) throw std::out_of_range("analyze_topology: a vertex index is out of range");
   topo.degenerate_triangles = tc.repeated_index + tc.zero_area;
   topo.min_angle_degrees = nf ? std::acos(std::clamp(tc.min_cos, -1.0, 1.0)) * 180.0 / std::numbers::pi : 0.0;
 

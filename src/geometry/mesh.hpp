@@ -70,8 +70,8 @@ struct VertexTriangles {
 };
 VertexTriangles vertex_triangles(std::size_t vertex_count, const std::vector<Triangle>& triangles);
 
-// Throws std::out_of_range for a vertex index outside the mesh.
-void check_vertex_indices(const TriangleMesh& mesh);
+// Throws std::out_of_range, its message starting with `what`, for a vertex index outside 0 .. vertex_count.
+void check_vertex_indices(std::size_t vertex_count, const std::vector<Triangle>& triangles, const char* what);
 
 // Throws std::out_of_range for a vertex index outside the mesh. The result does not depend on the order
 // of the triangles or the thread count.

@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-#include <numeric>
 
+#include "core/disjoint_sets.hpp"
 #include "geometry/point_tree.hpp"
 
 namespace poreshell {
@@ -104,18 +104,8 @@ std::vector<std::array<Vec3, 2>> crease_segments(const TriangleMesh& mesh, const
     i = end;
   }
   // Chains: union-find over the sharp edges' vertices, length per chain.
-  std::vector<std::int32_t> parent(mesh.vertices.size());
-  std::iota(parent.begin(), parent.end(), 0);
-  const auto find = [&](std::int32_t v) {
-    while (parent[static_cast<std::size_t>(v)] != v)
-      v = parent[static_cast<std::size_t>(v)] =
-          parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(v)])];
-    return v;
-  };
-  for (const Edge& e : sharp) {
-    const std::int32_t a = find(e.first), b = find(e.second);
-    if (a != b) parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
-  }
+  DisjointSets chains(mesh.vertices.size());
+  for (const Edge& e : sharp) chains.unite(e.first, e.second);
   std::vector<double> length(mesh.vertices.size(), 0.0);
   const auto segment = [&](const Edge& e) {
     return std::array<Vec3, 2>{mesh.vertices[static_cast<std::size_t>(e.first)],
@@ -123,11 +113,12 @@ std::vector<std::array<Vec3, 2>> crease_segments(const TriangleMesh& mesh, const
   };
   for (const Edge& e : sharp) {
     const auto s = segment(e);
-    length[static_cast<std::size_t>(find(e.first))] += (s[1] - s[0]).norm();
+    length[static_cast<std::size_t>(chains.find(e.first))] += (s[1] - s[0]).norm();
   }
   std::vector<std::array<Vec3, 2>> creases;
   for (const Edge& e : sharp)
-    if (length[static_cast<std::size_t>(find(e.first))] >= o.min_crease_length) creases.push_back(segment(e));
+    if (length[static_cast<std::size_t>(chains.find(e.first))] >= o.min_crease_length)
+      creases.push_back(segment(e));
   return creases;
 }
 

@@ -9,6 +9,7 @@
 #include <numbers>
 #include <numeric>
 
+#include "core/disjoint_sets.hpp"
 #include "geometry/point_tree.hpp"
 
 namespace poreshell {
@@ -277,29 +278,20 @@ std::vector<AreaSamples> free_parts(const NarrowBand& band, const AreaSamples& s
   std::vector<std::int32_t> sample_of(band.size(), -1);
   for (std::size_t i = 0; i < samples.voxel.size(); ++i)
     sample_of[static_cast<std::size_t>(samples.voxel[i])] = static_cast<std::int32_t>(i);
-  // Union-find over the samples, each joined to its +x, +y and +z neighbours (6-adjacency: the layer
-  // |psi| < h, 2 h thick, is 6-connected wherever the surface is).
-  std::vector<std::int32_t> root(samples.voxel.size());
-  std::iota(root.begin(), root.end(), 0);
-  const auto find = [&](std::int32_t i) {
-    while (root[static_cast<std::size_t>(i)] != i)
-      i = root[static_cast<std::size_t>(i)] =
-          root[static_cast<std::size_t>(root[static_cast<std::size_t>(i)])];
-    return i;
-  };
+  // Each sample joined to its +x, +y and +z neighbours (6-adjacency: the layer |psi| < h, 2 h thick, is
+  // 6-connected wherever the surface is).
+  DisjointSets sets(samples.voxel.size());
   for (std::size_t i = 0; i < samples.voxel.size(); ++i)
     for (const int n : {1, 3, 5}) {
       const std::int32_t w = band.neighbor(static_cast<std::size_t>(samples.voxel[i]), n);
       if (w < 0 || static_cast<std::size_t>(w) >= band.size()) continue;  // off the layer, or a ghost
-      const std::int32_t j = sample_of[static_cast<std::size_t>(w)];
-      if (j < 0) continue;
-      const std::int32_t a = find(static_cast<std::int32_t>(i)), b = find(j);
-      root[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);  // the lower index roots a part
+      if (const std::int32_t j = sample_of[static_cast<std::size_t>(w)]; j >= 0)
+        sets.unite(static_cast<std::int32_t>(i), j);
     }
   std::vector<std::int32_t> part_of_root(samples.voxel.size(), -1);
   std::vector<AreaSamples> parts;
   for (std::size_t i = 0; i < samples.voxel.size(); ++i) {
-    std::int32_t& part = part_of_root[static_cast<std::size_t>(find(static_cast<std::int32_t>(i)))];
+    std::int32_t& part = part_of_root[static_cast<std::size_t>(sets.find(static_cast<std::int32_t>(i)))];
     if (part < 0) {
       part = static_cast<std::int32_t>(parts.size());
       parts.emplace_back();

@@ -212,7 +212,7 @@ DecimateResult decimate_mesh(TriangleMesh& mesh, const DecimateOptions& options)
     if (!p.allFinite())
       throw InputError("the mesh has a vertex with a NaN or infinite coordinate: repair the mesh");
   const StageProgress& progress = options.progress;
-  check_vertex_indices(mesh);
+  check_vertex_indices(mesh.vertices.size(), mesh.triangles, "analyze_topology");
   // The collapses work on the mesh in Morton order (spatially_ordered()).
   const TriangleMesh ordered = spatially_ordered(mesh);
   // One set of vertex -> triangle rows for the checks, the corner table and the original surface.

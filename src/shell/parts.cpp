@@ -3,38 +3,23 @@
 #include <Eigen/Geometry>  // cross()
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 #include <vector>
 
+#include "core/disjoint_sets.hpp"
+
 namespace poreshell {
-namespace {
-
-std::int32_t find(std::vector<std::int32_t>& parent, std::int32_t v) {
-  while (parent[static_cast<std::size_t>(v)] != v) {
-    parent[static_cast<std::size_t>(v)] =
-        parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(v)])];
-    v = parent[static_cast<std::size_t>(v)];
-  }
-  return v;
-}
-
-}  // namespace
 
 PartsSummary keep_main_parts(TriangleMesh& mesh, double min_fraction) {
   PartsSummary summary;
-  std::vector<std::int32_t> parent(mesh.vertices.size());
-  std::iota(parent.begin(), parent.end(), 0);
+  DisjointSets parts(mesh.vertices.size());
   for (const auto& t : mesh.triangles)
-    for (int k = 1; k < 3; ++k) {
-      const std::int32_t a = find(parent, t[0]), b = find(parent, t[static_cast<std::size_t>(k)]);
-      if (a != b) parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);  // deterministic root
-    }
+    for (int k = 1; k < 3; ++k) parts.unite(t[0], t[static_cast<std::size_t>(k)]);
   // Signed volume per component (divergence theorem over its triangles).
   std::vector<double> volume(mesh.vertices.size(), 0.0);
   std::vector<std::int32_t> component(mesh.triangles.size());
   for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
     const auto& t = mesh.triangles[i];
-    component[i] = find(parent, t[0]);
+    component[i] = parts.find(t[0]);
     const Vec3 &a = mesh.vertices[static_cast<std::size_t>(t[0])],
                &b = mesh.vertices[static_cast<std::size_t>(t[1])],
                &c = mesh.vertices[static_cast<std::size_t>(t[2])];
@@ -73,7 +58,7 @@ PartsSummary keep_main_parts(TriangleMesh& mesh, double min_fraction) {
   }
   std::vector<std::int64_t> void_vertices(summary.voids.size(), 0);
   for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
-    if (const std::int32_t i = void_of[static_cast<std::size_t>(find(parent, static_cast<std::int32_t>(v)))];
+    if (const std::int32_t i = void_of[static_cast<std::size_t>(parts.find(static_cast<std::int32_t>(v)))];
         i >= 0) {
       ++void_vertices[static_cast<std::size_t>(i)];
       summary.voids[static_cast<std::size_t>(i)].inside += mesh.vertices[v];
