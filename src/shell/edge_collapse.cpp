@@ -298,6 +298,8 @@ class Collapser {
     // Scratch, kept to save allocations.
     std::vector<std::int32_t> scratch, fan_rated, fan_check, fan_kept, moved;
     std::vector<std::int32_t> moved_from;  // each moved point's place in fan_kept before, or -1
+    std::vector<char> changed;             // per place in fan_kept: the triangle was v0's
+    std::vector<std::int32_t> were_v0s;    // the kept vertex's neighbours that were v0's
     std::vector<std::tuple<double, std::int32_t, std::int32_t>> candidates;  // (error, v1, corner)
     std::vector<NewTriangle> ring;
     std::vector<Plane> ring_planes;  // of ring's triangles in hausdorff_ok(), of fan_kept's in collapse()
@@ -365,17 +367,31 @@ class Collapser {
       ++(target_bound_[u] == kUnbounded ? w.counts.checked : w.counts.bounded);
       collapse(w, target_[u]);
       removed += 2;
-      // Every vertex whose collapses the change could touch is next to the kept one. Its collapses'
-      // errors only grow (the kept vertex's quadric did), but for its collapse onto the kept vertex,
-      // new where it was next to v0: that one lowers its bound, if any.
+      // Every vertex whose collapses the change could touch is next to the kept one. Those that were
+      // next to v0 too have new triangles: their collapses are rated again. Their errors only grow
+      // (the kept vertex's quadric did), but for the collapse onto the kept vertex, new where it was
+      // next to v0 alone: that one lowers the bound, if any. The others' triangles, and the points on
+      // them (collapse()), are as they were, so their collapses pass or fail as before; only the one
+      // onto the kept vertex has a larger error, and a vertex that had chosen it chooses again.
       rate(w, kept, w.fan_kept);  // collapse() left the kept vertex's fan there
+      w.were_v0s.clear();
+      for (std::size_t i = 0; i < w.fan_kept.size(); ++i)
+        if (w.changed[i]) {
+          w.were_v0s.push_back(vertex(next_corner(w.fan_kept[i])));
+          w.were_v0s.push_back(vertex(previous_corner(w.fan_kept[i])));
+        }
       for (const std::int32_t c : w.fan_kept) {
         const std::int32_t n = vertex(next_corner(c));
-        if (!owns(w, n) || shapes_refuse_[static_cast<std::size_t>(n)]) continue;
         const auto x = static_cast<std::size_t>(n);
-        bound_[x] = std::min(bound_[x], error(n, kept));
-        checked_[x] = 0;
-        w.queue.set(n, bound_[x]);
+        if (!owns(w, n) || shapes_refuse_[x]) continue;
+        if (std::find(w.were_v0s.begin(), w.were_v0s.end(), n) != w.were_v0s.end()) {
+          bound_[x] = std::min(bound_[x], error(n, kept));
+          checked_[x] = 0;
+          w.queue.set(n, bound_[x]);
+        } else if (checked_[x] && vertex(next_corner(target_[x])) == kept) {
+          checked_[x] = 0;
+          w.queue.set(n, bound_[x]);
+        }
       }
       if (++unreported == kReportEvery) {
         loop.done(unreported);
@@ -687,15 +703,22 @@ class Collapser {
     // the nearest so far cannot be nearer itself (below).
     fan(v1, w.fan_kept);
     w.ring_planes.clear();
+    w.changed.clear();
     for (const std::int32_t k : w.fan_kept) {
       const auto t = static_cast<std::size_t>(k / 3);
       const Vec3 &c0 = point(corners_[3 * t].vertex), &c1 = point(corners_[3 * t + 1].vertex),
                  &c2 = point(corners_[3 * t + 2].vertex);
-      sine_[t] = min_angle_sine_squared(c0, c1, c2);
-      shape_[t] = classify_triangle(c0, c1, c2);
+      // v1's triangles from before keep their corners: only v0's, now v1's, changed.
+      const bool changed =
+          std::any_of(w.fan_check.begin(), w.fan_check.end(), [&](std::int32_t j) { return j / 3 == k / 3; });
+      if (changed) {
+        sine_[t] = min_angle_sine_squared(c0, c1, c2);
+        shape_[t] = classify_triangle(c0, c1, c2);
+      }
+      w.changed.push_back(changed);
       w.ring_planes.push_back(Plane::of(c0, c1, c2, shape_[t]));
     }
-    // The removed vertices on the changed triangles, and v0, each go to the nearest triangle around v1.
+    // The removed vertices on the changed triangles, and v0, each go to the nearest changed triangle.
     w.moved.clear();
     w.moved_from.clear();
     const auto take = [&](std::int32_t t, std::int32_t from) {
@@ -708,9 +731,16 @@ class Collapser {
     };
     take(left, -1);
     take(right, -1);
-    for (std::size_t i = 0; i < w.fan_kept.size(); ++i) take(w.fan_kept[i] / 3, static_cast<std::int32_t>(i));
+    // A point on one of v1's triangles from before keeps it: its distance to it, which bounds its
+    // distance to the surface, has not changed, and the checks ask about it once that triangle changes.
+    // So the triangles from before keep their points, and their vertices' collapses stay as they were
+    // rated (collapse_until()).
+    for (std::size_t i = 0; i < w.fan_kept.size(); ++i)
+      if (w.changed[i]) take(w.fan_kept[i] / 3, static_cast<std::int32_t>(i));
     w.moved.push_back(v0);
     w.moved_from.push_back(-1);
+    const auto first_changed =
+        static_cast<std::size_t>(std::find(w.changed.begin(), w.changed.end(), 1) - w.changed.begin());
     // The nearest triangle, the first in fan order among equals. A point's own triangle, where it is still
     // there, goes first: mostly the nearest still, it lets the planes rule out most of the others.
     const auto distance2_to = [&](std::int32_t p, std::size_t i) {
@@ -724,9 +754,9 @@ class Collapser {
       const std::int32_t p = w.moved[m], from = w.moved_from[m];
       double best = from >= 0 ? distance2_to(p, static_cast<std::size_t>(from))
                               : std::numeric_limits<double>::infinity();
-      std::size_t nearest_at = from >= 0 ? static_cast<std::size_t>(from) : 0;
+      std::size_t nearest_at = from >= 0 ? static_cast<std::size_t>(from) : first_changed;
       for (std::size_t i = 0; i < w.fan_kept.size(); ++i) {
-        if (static_cast<std::int32_t>(i) == from) continue;
+        if (!w.changed[i] || static_cast<std::int32_t>(i) == from) continue;
         const double plane = w.ring_planes[i].normal.dot(point(p) - point(vertex(w.fan_kept[i] / 3 * 3)));
         if (plane * plane > best * (1.0 + 1e-9)) continue;
         if (const double d2 = distance2_to(p, i); d2 < best || (d2 == best && i < nearest_at)) {
