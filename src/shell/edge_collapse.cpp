@@ -705,17 +705,19 @@ class Collapser {
     w.ring_planes.clear();
     w.changed.clear();
     for (const std::int32_t k : w.fan_kept) {
-      const auto t = static_cast<std::size_t>(k / 3);
-      const Vec3 &c0 = point(corners_[3 * t].vertex), &c1 = point(corners_[3 * t + 1].vertex),
-                 &c2 = point(corners_[3 * t + 2].vertex);
       // v1's triangles from before keep their corners: only v0's, now v1's, changed.
       const bool changed =
           std::any_of(w.fan_check.begin(), w.fan_check.end(), [&](std::int32_t j) { return j / 3 == k / 3; });
-      if (changed) {
-        sine_[t] = min_angle_sine_squared(c0, c1, c2);
-        shape_[t] = classify_triangle(c0, c1, c2);
-      }
       w.changed.push_back(changed);
+      if (!changed) {
+        w.ring_planes.push_back({Vec3::Zero(), TriangleShape::degenerate});  // takes no points (below)
+        continue;
+      }
+      const auto t = static_cast<std::size_t>(k / 3);
+      const Vec3 &c0 = point(corners_[3 * t].vertex), &c1 = point(corners_[3 * t + 1].vertex),
+                 &c2 = point(corners_[3 * t + 2].vertex);
+      sine_[t] = min_angle_sine_squared(c0, c1, c2);
+      shape_[t] = classify_triangle(c0, c1, c2);
       w.ring_planes.push_back(Plane::of(c0, c1, c2, shape_[t]));
     }
     // The removed vertices on the changed triangles, and v0, each go to the nearest changed triangle.
