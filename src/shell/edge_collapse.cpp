@@ -274,6 +274,13 @@ class Collapser {
     double x, y, h;
   };
 
+  // v0's fan as fan_distance_bound() sees it (see_fan()).
+  struct FanFrame {
+    bool ready = false, usable = false;
+    Vec3 p0, normal, ex, ey;
+    double old_bound = 0.0;
+  };
+
   // A new triangle's unit normal (zero where it has no area) and shape.
   struct Plane {
     Vec3 normal;
@@ -304,6 +311,7 @@ class Collapser {
     std::vector<NewTriangle> ring;
     std::vector<Plane> ring_planes;  // of ring's triangles in hausdorff_ok(), of fan_kept's in collapse()
     std::vector<Projected> spokes;
+    FanFrame frame;  // of v0's fan, for fan_distance_bound(); ready once seen in this choose()
     CollapseCounts counts;
   };
 
@@ -480,6 +488,7 @@ class Collapser {
     std::sort(w.candidates.begin(), w.candidates.end());  // ties by the kept vertex: deterministic
     bound_[u] = std::get<0>(w.candidates.front());
     w.fan_check = w.fan_rated;  // the checks' copy of v0's fan
+    w.frame.ready = false;
     double before = 1.0;
     for (const std::int32_t k : w.fan_check)
       before = std::min(before, sine_[static_cast<std::size_t>(k / 3)]);
@@ -538,31 +547,14 @@ class Collapser {
   // linear functions over the polygon, greatest where v0 lies or where an edge of one crosses an
   // edge of the other. Add the old triangles' own bounds.
   double fan_distance_bound(Worker& w, std::int32_t c) const {
-    const Vec3& p0 = point(vertex(c));
-    Vec3 normal = Vec3::Zero();
-    for (const std::int32_t k : w.fan_check)
-      normal += (point(vertex(next_corner(k))) - p0).cross(point(vertex(previous_corner(k))) - p0);
-    if (!(normal.norm() > 0.0)) return kUnbounded;
-    normal.normalize();
-    const Vec3 ex = normal.unitOrthogonal(), ey = normal.cross(ex);
+    FanFrame& f = w.frame;
+    if (!f.ready) see_fan(w, vertex(c));
+    if (!f.usable) return kUnbounded;
     const auto seen = [&](std::int32_t v) {
-      const Vec3 d = point(v) - p0;
-      return Projected{ex.dot(d), ey.dot(d), normal.dot(d)};
+      const Vec3 d = point(v) - f.p0;
+      return Projected{f.ex.dot(d), f.ey.dot(d), f.normal.dot(d)};
     };
     const auto cross = [](const Projected& a, const Projected& b) { return a.x * b.y - a.y * b.x; };
-    double old_bound = 0.0;
-    int windings = 0;
-    w.spokes.clear();
-    for (const std::int32_t k : w.fan_check) {
-      const Projected a = seen(vertex(next_corner(k))), b = seen(vertex(previous_corner(k)));
-      if (!(cross(a, b) > 0.0)) return kUnbounded;
-      // Turning left by less than half a turn, from below the x axis to above it crosses its
-      // positive half: the crossings count the windings.
-      windings += a.y < 0.0 && b.y >= 0.0;
-      old_bound = std::max(old_bound, distance_bound_[static_cast<std::size_t>(k / 3)]);
-      w.spokes.push_back(a);
-    }
-    if (windings != 1) return kUnbounded;
     double gap = 0.0;
     bool covers_v0 = false;
     for (const NewTriangle& t : w.ring) {
@@ -586,8 +578,45 @@ class Collapser {
         if (u > 0.0 && u < 1.0 && v > 0.0 && v < 1.0) gap = std::max(gap, std::abs(a.h + v * ad.h - u * s.h));
       }
     }
-    const double bound = gap + old_bound;
+    const double bound = gap + f.old_bound;
     return covers_v0 && bound <= tolerance_ ? bound : kUnbounded;
+  }
+
+  // What fan_distance_bound() needs of v0's fan alone, the same for each of its collapses: the fan's
+  // normal and a frame across it, the spokes seen in it, the old triangles' largest bound, and whether
+  // the fan is seen once around v0 at all. Where that bound alone is over the tolerance, the rest is
+  // not needed.
+  void see_fan(Worker& w, std::int32_t v0) const {
+    FanFrame& f = w.frame;
+    f.ready = true;
+    f.usable = false;
+    f.old_bound = 0.0;
+    for (const std::int32_t k : w.fan_check)
+      f.old_bound = std::max(f.old_bound, distance_bound_[static_cast<std::size_t>(k / 3)]);
+    if (f.old_bound > tolerance_) return;
+    f.p0 = point(v0);
+    f.normal = Vec3::Zero();
+    for (const std::int32_t k : w.fan_check)
+      f.normal += (point(vertex(next_corner(k))) - f.p0).cross(point(vertex(previous_corner(k))) - f.p0);
+    if (!(f.normal.norm() > 0.0)) return;
+    f.normal.normalize();
+    f.ex = f.normal.unitOrthogonal();
+    f.ey = f.normal.cross(f.ex);
+    const auto seen = [&](std::int32_t v) {
+      const Vec3 d = point(v) - f.p0;
+      return Projected{f.ex.dot(d), f.ey.dot(d), f.normal.dot(d)};
+    };
+    int windings = 0;
+    w.spokes.clear();
+    for (const std::int32_t k : w.fan_check) {
+      const Projected a = seen(vertex(next_corner(k))), b = seen(vertex(previous_corner(k)));
+      if (!(a.x * b.y - a.y * b.x > 0.0)) return;
+      // Turning left by less than half a turn, from below the x axis to above it crosses its
+      // positive half: the crossings count the windings.
+      windings += a.y < 0.0 && b.y >= 0.0;
+      w.spokes.push_back(a);
+    }
+    f.usable = windings == 1;
   }
 
   // Each new edge is the edge from v1 onwards of one new triangle.
