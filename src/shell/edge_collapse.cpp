@@ -280,12 +280,19 @@ class Collapser {
   struct Projected {
     double x, y, h;
   };
+  // The z of the cross product of two points seen across a fan: positive where b is left of a.
+  static double cross(const Projected& a, const Projected& b) { return a.x * b.y - a.y * b.x; }
 
   // v0's fan as fan_distance_bound() sees it (see_fan()).
   struct FanFrame {
     bool ready = false, usable = false;
     Vec3 p0, normal, ex, ey;
     double old_bound = 0.0;
+
+    Projected seen(const Vec3& p) const {
+      const Vec3 d = p - p0;
+      return {ex.dot(d), ey.dot(d), normal.dot(d)};
+    }
   };
 
   // A new triangle's unit normal (zero where it has no area) and shape.
@@ -557,15 +564,10 @@ class Collapser {
     FanFrame& f = w.frame;
     if (!f.ready) see_fan(w, vertex(c));
     if (!f.usable) return kUnbounded;
-    const auto seen = [&](std::int32_t v) {
-      const Vec3 d = point(v) - f.p0;
-      return Projected{f.ex.dot(d), f.ey.dot(d), f.normal.dot(d)};
-    };
-    const auto cross = [](const Projected& a, const Projected& b) { return a.x * b.y - a.y * b.x; };
     double gap = 0.0;
     bool covers_v0 = false;
     for (const NewTriangle& t : w.ring) {
-      const Projected a = seen(t[0]), b = seen(t[1]), d = seen(t[2]);
+      const Projected a = f.seen(point(t[0])), b = f.seen(point(t[1])), d = f.seen(point(t[2]));
       const Projected ab{b.x - a.x, b.y - a.y, b.h - a.h}, ad{d.x - a.x, d.y - a.y, d.h - a.h};
       const double twice_area = cross(ab, ad);
       if (!(twice_area > 0.0)) return kUnbounded;
@@ -609,15 +611,12 @@ class Collapser {
     f.normal.normalize();
     f.ex = f.normal.unitOrthogonal();
     f.ey = f.normal.cross(f.ex);
-    const auto seen = [&](std::int32_t v) {
-      const Vec3 d = point(v) - f.p0;
-      return Projected{f.ex.dot(d), f.ey.dot(d), f.normal.dot(d)};
-    };
     int windings = 0;
     w.spokes.clear();
     for (const std::int32_t k : w.fan_check) {
-      const Projected a = seen(vertex(next_corner(k))), b = seen(vertex(previous_corner(k)));
-      if (!(a.x * b.y - a.y * b.x > 0.0)) return;
+      const Projected a = f.seen(point(vertex(next_corner(k)))),
+                      b = f.seen(point(vertex(previous_corner(k))));
+      if (!(cross(a, b) > 0.0)) return;
       // Turning left by less than half a turn, from below the x axis to above it crosses its
       // positive half: the crossings count the windings.
       windings += a.y < 0.0 && b.y >= 0.0;
