@@ -86,12 +86,14 @@ double largest_over(std::size_t count, const Grow& grow) {
       [](double a, double b) { return std::max(a, b); });
 }
 
-// The largest distance from the original's vertices to the reduced surface where it exceeds `floor`;
-// else a value no larger than floor. A removed vertex's distance to the triangle it was last distributed
-// over bounds its distance to the surface, so only vertices whose bound exceeds floor are searched for,
-// over a tree built only then.
+// At least the largest distance from the original's vertices to the reduced surface where it exceeds
+// `floor`; else a value no larger than floor. A removed vertex's distance to the triangle it was last
+// distributed over bounds its distance to the surface. Where those bounds are all within `limit`, the
+// largest stands for the distance (a search could only lower it); else the vertices whose bound exceeds
+// floor are searched for, over a tree built only then. The pipeline's shell of the bunny at 6 / 10 mm
+// has vertices between the floor (0.0499998 mm) and the limit (0.05): the tree for them cost 0.12 s.
 double distance_from_original_vertices(const TriangleMesh& original, const TriangleMesh& reduced,
-                                       const std::vector<std::int32_t>& carrier, double floor) {
+                                       const std::vector<std::int32_t>& carrier, double floor, double limit) {
   const auto bound = [&](std::size_t v) {
     if (carrier[v] < 0) return 0.0;  // a vertex of the reduced triangles, or of no triangle at all
     const auto& t = reduced.triangles[static_cast<std::size_t>(carrier[v])];
@@ -100,8 +102,10 @@ double distance_from_original_vertices(const TriangleMesh& original, const Trian
             original.vertices[v])
         .norm();
   };
-  if (largest_over(carrier.size(), [&](std::size_t v, double d) { return std::max(d, bound(v)); }) <= floor)
-    return floor;
+  const double largest =
+      largest_over(carrier.size(), [&](std::size_t v, double d) { return std::max(d, bound(v)); });
+  if (largest <= floor) return floor;
+  if (largest <= limit) return largest;
   const MeshSurface surface(reduced);
   return largest_over(carrier.size(), [&](std::size_t v, double d) {
     return bound(v) > floor ? std::max(d, surface.distance(original.vertices[v])) : d;
@@ -241,8 +245,9 @@ DecimateResult decimate_mesh(TriangleMesh& mesh, const DecimateOptions& options)
     part.advance(0.96);
     // Both ways: the original vertices, a dense sampling of it, to the reduced surface as well.
     const double to_original = distance_to_original(original, ordered, collapsed.triangles);
-    const double distance = std::max(
-        to_original, distance_from_original_vertices(ordered, reduced, collapsed.carrier, to_original));
+    const double distance =
+        std::max(to_original, distance_from_original_vertices(ordered, reduced, collapsed.carrier,
+                                                              to_original, options.max_distance));
     part.advance(0.99);
     if (distance > options.max_distance) {
       tolerance *= 0.9 * options.max_distance / distance;

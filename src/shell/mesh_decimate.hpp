@@ -40,8 +40,9 @@ struct DecimateResult {
   std::int64_t triangles_before = 0, triangles_after = 0;
   // Measured afterwards, both ways: from the reduced mesh's edge midpoints and centroids to the
   // original surface's sheet through their triangle's corners (at least the distance to the whole
-  // surface), and from the original vertices to the reduced surface.
-  // Never above DecimateOptions::max_distance.
+  // surface), and from the original vertices to the reduced triangle each was last distributed over
+  // (at least the distance to the reduced surface, which is searched for only where that is over the
+  // bound). Never above DecimateOptions::max_distance.
   double max_distance = 0.0;
   bool reached_target = false;  // false when the distance bound or the triangle shapes stopped it first
   CollapseCounts collapses;     // of the attempt returned
