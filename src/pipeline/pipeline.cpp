@@ -342,7 +342,10 @@ PipelineResult run_pipeline(const Input& input, const PreparedInput& prepared, R
                         options.max_triangles, options.max_deviation, out.reduction->triangles_after,
                         out.reduction->triangles_after, 0.25 * result.solid.wall_mm));
     }
-    out.topology = analyze_topology(out.mesh, share.part(reduced, checked));
+    // A reduction checked its result already.
+    out.topology = out.reduction && out.reduction->topology
+                       ? *out.reduction->topology
+                       : analyze_topology(out.mesh, share.part(reduced, checked));
     out.pores_from_euler = (result.unperforated_euler - wall_voids - out.topology.euler_characteristic) / 2;
     check_printable(out.topology, out.iso);
     share.advance(checked);

@@ -253,7 +253,8 @@ DecimateResult decimate_mesh(TriangleMesh& mesh, const DecimateOptions& options)
       tolerance *= 0.9 * options.max_distance / distance;
       continue;
     }
-    check_result(before, analyze_topology(reduced), volume_tolerance);
+    result.topology = analyze_topology(reduced);
+    check_result(before, *result.topology, volume_tolerance);
     result.triangles_after = static_cast<std::int64_t>(reduced.triangles.size());
     result.max_distance = distance;
     result.collapses = counts;

@@ -6,6 +6,7 @@
 // degrees, except where they replace a sharper one (isosurface slivers go away, none get worse).
 
 #include <cstdint>
+#include <optional>
 
 #include "geometry/mesh.hpp"
 
@@ -47,6 +48,7 @@ struct DecimateResult {
   bool reached_target = false;  // false when the distance bound or the triangle shapes stopped it first
   CollapseCounts collapses;     // of the attempt returned
   int attempts = 0;             // reductions made: more than 1 where the distance measured overshot
+  std::optional<MeshTopology> topology;  // of the reduced mesh, where the reduction ran (its check)
 };
 
 // Reduces `mesh` in place to at most options.max_triangles triangles, as far as the distance bound
