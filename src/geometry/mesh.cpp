@@ -167,33 +167,20 @@ void check_vertex_indices(std::size_t nv, const std::vector<Triangle>& triangles
 }
 
 VertexTriangles vertex_triangles(std::size_t nv, const std::vector<Triangle>& triangles) {
-  const std::size_t nf = triangles.size();
-  std::vector<std::atomic<std::uint32_t>> count(nv);
-  tbb::parallel_for(std::size_t{0}, nv, [&](std::size_t v) { count[v].store(0, std::memory_order_relaxed); });
-  tbb::parallel_for(std::size_t{0}, nf, [&](std::size_t f) {
-    const auto& t = triangles[f];
-    if (!has_repeated_vertex(t))
-      for (std::int32_t v : t) count[static_cast<std::size_t>(v)].fetch_add(1, std::memory_order_relaxed);
-  });
+  // A counting sort in triangle order, on one thread: each row comes out sorted, with no atomics and
+  // no sorts per row (1.5 M triangles: 0.065 s with atomic counts on 2 threads and rows sorted after).
   VertexTriangles out;
-  out.start.resize(nv + 1);
-  out.start[0] = 0;
-  for (std::size_t v = 0; v < nv; ++v) {  // then count[v] is v's cursor
-    out.start[v + 1] = out.start[v] + count[v].load(std::memory_order_relaxed);
-    count[v].store(out.start[v], std::memory_order_relaxed);
-  }
-  out.incident.resize(out.start[nv]);
-  tbb::parallel_for(std::size_t{0}, nf, [&](std::size_t f) {
-    const auto& t = triangles[f];
+  out.start.assign(nv + 1, 0);
+  for (const auto& t : triangles)
     if (!has_repeated_vertex(t))
-      for (std::int32_t v : t)
-        out.incident[count[static_cast<std::size_t>(v)].fetch_add(1, std::memory_order_relaxed)] =
-            static_cast<std::uint32_t>(f);
-  });
-  // Filled in any order by the tasks: sorted, so what follows does not depend on the thread count.
-  tbb::parallel_for(std::size_t{0}, nv, [&](std::size_t v) {
-    std::sort(out.incident.begin() + out.start[v], out.incident.begin() + out.start[v + 1]);
-  });
+      for (std::int32_t v : t) ++out.start[static_cast<std::size_t>(v) + 1];
+  for (std::size_t v = 0; v < nv; ++v) out.start[v + 1] += out.start[v];
+  out.incident.resize(out.start[nv]);
+  std::vector<std::uint32_t> cursor(out.start.begin(), out.start.end() - 1);
+  for (std::size_t f = 0; f < triangles.size(); ++f)
+    if (!has_repeated_vertex(triangles[f]))
+      for (std::int32_t v : triangles[f])
+        out.incident[cursor[static_cast<std::size_t>(v)]++] = static_cast<std::uint32_t>(f);
   return out;
 }
 
