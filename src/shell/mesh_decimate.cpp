@@ -171,20 +171,24 @@ TriangleMesh spatially_ordered(const TriangleMesh& mesh) {
     index[static_cast<std::size_t>(order[i].second)] = static_cast<std::int32_t>(i);
     out.vertices[i] = mesh.vertices[static_cast<std::size_t>(order[i].second)];
   }
-  std::vector<std::pair<std::int32_t, std::int32_t>> triangles(mesh.triangles.size());
-  tbb::parallel_for(std::size_t{0}, triangles.size(), [&](std::size_t f) {
-    const auto& t = mesh.triangles[f];
-    triangles[f] = {std::min({index[static_cast<std::size_t>(t[0])], index[static_cast<std::size_t>(t[1])],
-                              index[static_cast<std::size_t>(t[2])]}),
-                    static_cast<std::int32_t>(f)};
+  // The triangles by their first new vertex, ties in their old order: a counting sort over the vertices
+  // (on the bunny's shell 0.04 s, where sorting (vertex, triangle) pairs took 0.08 s).
+  out.triangles.resize(mesh.triangles.size());
+  std::vector<std::int32_t> first(mesh.triangles.size());
+  tbb::parallel_for(std::size_t{0}, first.size(), [&](std::size_t f) {
+    auto& t = out.triangles[f];
+    for (int k = 0; k < 3; ++k)
+      t[static_cast<std::size_t>(k)] =
+          index[static_cast<std::size_t>(mesh.triangles[f][static_cast<std::size_t>(k)])];
+    first[f] = std::min({t[0], t[1], t[2]});
   });
-  tbb::parallel_sort(triangles.begin(), triangles.end());
-  out.triangles.resize(triangles.size());
-  tbb::parallel_for(std::size_t{0}, triangles.size(), [&](std::size_t f) {
-    const auto& t = mesh.triangles[static_cast<std::size_t>(triangles[f].second)];
-    out.triangles[f] = {index[static_cast<std::size_t>(t[0])], index[static_cast<std::size_t>(t[1])],
-                        index[static_cast<std::size_t>(t[2])]};
-  });
+  std::vector<std::uint32_t> start(order.size() + 1, 0);
+  for (const std::int32_t v : first) ++start[static_cast<std::size_t>(v) + 1];
+  for (std::size_t v = 0; v < order.size(); ++v) start[v + 1] += start[v];
+  std::vector<Triangle> sorted(out.triangles.size());
+  for (std::size_t f = 0; f < first.size(); ++f)
+    sorted[start[static_cast<std::size_t>(first[f])]++] = out.triangles[f];
+  out.triangles = std::move(sorted);
   return out;
 }
 
