@@ -184,24 +184,44 @@ DecimateResult decimate(TriangleMesh& mesh, std::int64_t max_triangles, double m
   return decimate_mesh(mesh, {max_triangles, max_distance});
 }
 
-TEST(MeshDecimate, CornerTableJoinsEachEdgesTwoTriangles) {
-  const TriangleMesh mesh = torus(12, 8, 3.0, 1.0);
-  const std::vector<std::int32_t> opposite = opposite_corners(mesh);
-  ASSERT_EQ(opposite.size(), 3 * mesh.triangles.size());
-  const auto vertex = [&](std::int32_t c) { return mesh.triangles[static_cast<std::size_t>(c / 3)][c % 3]; };
-  for (std::int32_t c = 0; c < static_cast<std::int32_t>(opposite.size()); ++c) {
-    const std::int32_t o = opposite[static_cast<std::size_t>(c)];
-    ASSERT_GE(o, 0);
-    EXPECT_NE(o / 3, c / 3);
-    EXPECT_EQ(opposite[static_cast<std::size_t>(o)], c);
-    // c faces u -> w; the corner across faces w -> u (consistent orientation).
-    EXPECT_EQ(vertex(next_corner(c)), vertex(previous_corner(o)));
-    EXPECT_EQ(vertex(previous_corner(c)), vertex(next_corner(o)));
+// Two cones on a ring of n vertices, apexes on the axis: each apex has n triangles around it.
+TriangleMesh bipyramid(int n) {
+  TriangleMesh mesh;
+  for (int i = 0; i < n; ++i) {
+    const double a = 2.0 * std::numbers::pi * i / n;
+    mesh.vertices.push_back({std::cos(a), std::sin(a), 0.0});
   }
-  // An open mesh has edges with one triangle: refused.
-  TriangleMesh open = mesh;
-  open.triangles.pop_back();
-  EXPECT_THROW(opposite_corners(open), std::runtime_error);
+  mesh.vertices.push_back({0.0, 0.0, 1.0});
+  mesh.vertices.push_back({0.0, 0.0, -1.0});
+  for (int i = 0; i < n; ++i) {
+    mesh.triangles.push_back({i, (i + 1) % n, n});
+    mesh.triangles.push_back({(i + 1) % n, i, n + 1});
+  }
+  return mesh;
+}
+
+TEST(MeshDecimate, CornerTableJoinsEachEdgesTwoTriangles) {
+  // The bipyramid's apexes have more triangles (40) than opposite_corners() keeps on its stack.
+  for (const TriangleMesh& mesh : {torus(12, 8, 3.0, 1.0), bipyramid(40)}) {
+    const std::vector<std::int32_t> opposite = opposite_corners(mesh);
+    ASSERT_EQ(opposite.size(), 3 * mesh.triangles.size());
+    const auto vertex = [&](std::int32_t c) {
+      return mesh.triangles[static_cast<std::size_t>(c / 3)][c % 3];
+    };
+    for (std::int32_t c = 0; c < static_cast<std::int32_t>(opposite.size()); ++c) {
+      const std::int32_t o = opposite[static_cast<std::size_t>(c)];
+      ASSERT_GE(o, 0);
+      EXPECT_NE(o / 3, c / 3);
+      EXPECT_EQ(opposite[static_cast<std::size_t>(o)], c);
+      // c faces u -> w; the corner across faces w -> u (consistent orientation).
+      EXPECT_EQ(vertex(next_corner(c)), vertex(previous_corner(o)));
+      EXPECT_EQ(vertex(previous_corner(c)), vertex(next_corner(o)));
+    }
+    // An open mesh has edges with one triangle: refused.
+    TriangleMesh open = mesh;
+    open.triangles.pop_back();
+    EXPECT_THROW(opposite_corners(open), std::runtime_error);
+  }
 }
 
 // 9600 triangles are reduced by one worker, 24,000 in parts at once (edge_collapse.cpp): either way to
