@@ -100,9 +100,7 @@ VertexCounts count_at_vertices(std::size_t nv, const std::vector<Triangle>& tria
           sides.clear();
           for (std::uint32_t i = 0; i < n; ++i) {
             const auto& t = triangles[at.incident[first + i]];
-            const int c = t[0] == static_cast<std::int32_t>(v)   ? 0
-                          : t[1] == static_cast<std::int32_t>(v) ? 1
-                                                                 : 2;
+            const int c = place_of(t, static_cast<std::int32_t>(v));
             sides.push_back({t[(c + 1) % 3], true, i});
             sides.push_back({t[(c + 2) % 3], false, i});
           }

@@ -39,6 +39,10 @@ using Edge = std::array<std::int32_t, 2>;
 inline bool has_repeated_vertex(const Triangle& t) {
   return t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
 }
+// Where v is in t, a triangle of v's (its first place; 2 where v is not in it).
+inline int place_of(const Triangle& t, std::int32_t v) {
+  return t[0] == v ? 0 : (t[1] == v ? 1 : 2);
+}
 // Twice the area and the longest edge squared, which the shape tests compare.
 struct TriangleSize {
   double twice_area = 0.0, longest2 = 0.0;

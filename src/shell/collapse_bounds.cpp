@@ -46,7 +46,7 @@ std::vector<std::int32_t> opposite_corners(const TriangleMesh& mesh, const Verte
     for (std::uint32_t j = 0; j < count; ++j) {
       const auto f = static_cast<std::int32_t>(at.incident[at.start[x] + j]);
       const auto& t = mesh.triangles[static_cast<std::size_t>(f)];
-      const int k = t[0] == w ? 0 : (t[1] == w ? 1 : 2);
+      const int k = place_of(t, w);
       fan[j] = {t[static_cast<std::size_t>((k + 1) % 3)], t[static_cast<std::size_t>((k + 2) % 3)], f, k};
     }
     // The corner after w faces previous -> w; across it, the first triangle of the fan in which w is
@@ -82,7 +82,7 @@ OriginalSurface::OriginalSurface(const TriangleMesh& mesh, const std::vector<std
     Vec3 sum = Vec3::Zero();
     for (const std::uint32_t f : triangles_at(static_cast<std::int32_t>(v))) {
       const auto& t = mesh.triangles[f];
-      const int i = t[0] == static_cast<std::int32_t>(v) ? 0 : (t[1] == static_cast<std::int32_t>(v) ? 1 : 2);
+      const int i = place_of(t, static_cast<std::int32_t>(v));
       const Vec3 &p = mesh.vertices[t[i]], &q = mesh.vertices[t[(i + 1) % 3]],
                  &r = mesh.vertices[t[(i + 2) % 3]];
       // The angle from the cross product's length and the dot product, no edge normalised: on the
