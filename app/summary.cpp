@@ -94,12 +94,13 @@ void print_summary(const poreshell::Options& c, const poreshell::Report& r,
       "  pattern  {} spots at phi > 0, size CV {:.3f}, spacing {:.2f} h (CV {:.3f}), area fraction {:.3f}\n",
       r.pattern.spots, r.pattern.size_cv, r.pattern.spacing_mean_voxels, r.pattern.spacing_cv,
       r.pattern.area_fraction);
+  const char* plural = r.pattern.closed_small_holes == 1 ? "" : "s";
   if (r.pattern.closed_small_holes > 0 && r.preview && r.solver.steps == 0)
-    fmt::print("  closed   {} discs under 0.915 of the asked diameter (the run would close them)\n",
-               r.pattern.closed_small_holes);
+    fmt::print("  closed   {} disc{} under 0.915 of the asked diameter (the run would close {})\n",
+               r.pattern.closed_small_holes, plural, r.pattern.closed_small_holes == 1 ? "it" : "them");
   else if (r.pattern.closed_small_holes > 0)
-    fmt::print("  closed   {} holes under 0.7 of the asked diameter (pinholes next to solid zones)\n",
-               r.pattern.closed_small_holes);
+    fmt::print("  closed   {} hole{} under 0.7 of the asked diameter (pinholes next to solid zones)\n",
+               r.pattern.closed_small_holes, plural);
   fmt::print("  time     band {:.2f} s, solve {:.2f} s, mesh+write {:.2f} s, total {:.2f} s ({} threads)\n",
              r.seconds.band, r.seconds.solve, r.seconds.mesh, r.seconds.total, r.threads);
   constexpr double kMiB = 1024.0 * 1024.0;
