@@ -38,11 +38,19 @@
 
 #include "core/error.hpp"
 #include "core/parallel.hpp"
+#include "geometry/tet_creases.hpp"
 
 namespace poreshell {
 namespace {
 
-constexpr double kSnap = 0.05;                  // in units of the edge length
+constexpr double kSnap = 0.05;  // in units of the edge length
+// Vertex names: point key * kNames + what the vertex lies on, from that point (its lowest corner):
+// 1-7 a grid edge (its direction bits); kFaceNames a Kuhn triangle's crease point; kInsideNames a
+// crease meeting point inside one of the cube's tetrahedra (tet_creases.hpp).
+constexpr std::int64_t kNames = 256, kFaceNames = 8, kInsideNames = 200;
+// A crease point this near a vertex beside it (the largest difference of their barycentric coordinates
+// on the face) is not made: the triangles between them would be slivers.
+constexpr double kCreaseClearance = 0.15;
 constexpr std::size_t kPointsPerChunk = 16384;  // at least; chunks depend on the field, not the threads
 
 // Cube corners are 3-bit masks (bit 0: +x, bit 1: +y, bit 2: +z).
@@ -167,19 +175,22 @@ class CornerReader {
           field.keys.begin());
   }
 
-  // Corner c = bit 0 (+x), bit 1 (+y), bit 2 (+z); cell must not be below the previous one.
-  std::array<double, 8> at(std::int64_t cell) {
+  // Corner c = bit 0 (+x), bit 1 (+y), bit 2 (+z); cell must not be below the previous one. `positions`
+  // receives each corner's place in the field (-1: not sampled).
+  std::array<double, 8> at(std::int64_t cell, std::array<std::int64_t, 8>* positions = nullptr) {
     std::array<double, 8> v;
     const std::size_t n = field_.keys.size();
     for (int r = 0; r < 4; ++r) {
       const std::int64_t key = cell + grid_.offset(r << 1);
       std::size_t& i = at_[static_cast<std::size_t>(r)];
       while (i < n && field_.keys[i] < key) ++i;
-      std::size_t j = i;
-      v[static_cast<std::size_t>(r << 1)] =
-          j < n && field_.keys[j] == key ? field_.values[j++] : field_.background;
-      v[static_cast<std::size_t>((r << 1) | 1)] =
-          j < n && field_.keys[j] == key + 1 ? field_.values[j] : field_.background;
+      for (int x = 0; x < 2; ++x) {
+        const std::size_t j = i + static_cast<std::size_t>(x > 0 && i < n && field_.keys[i] == key);
+        const bool sampled = j < n && field_.keys[j] == key + x;
+        v[static_cast<std::size_t>((r << 1) | x)] = sampled ? field_.values[j] : field_.background;
+        if (positions)
+          (*positions)[static_cast<std::size_t>((r << 1) | x)] = sampled ? static_cast<std::int64_t>(j) : -1;
+      }
     }
     return v;
   }
@@ -200,21 +211,21 @@ class NameReader {
       : names_(names), grid_(grid) {
     for (int r = 0; r < 4; ++r)
       at_[static_cast<std::size_t>(r)] = static_cast<std::size_t>(
-          std::lower_bound(names.begin(), names.end(), 8 * (first_cell + grid.offset(r << 1))) -
+          std::lower_bound(names.begin(), names.end(), kNames * (first_cell + grid.offset(r << 1))) -
           names.begin());
   }
 
   // cell must not be below the previous one.
   void move_to(std::int64_t cell) {
     for (int r = 0; r < 4; ++r) {
-      const std::int64_t first_name = 8 * (cell + grid_.offset(r << 1));
+      const std::int64_t first_name = kNames * (cell + grid_.offset(r << 1));
       std::size_t& i = at_[static_cast<std::size_t>(r)];
       while (i < names_.size() && names_[i] < first_name) ++i;
     }
   }
   // Index of `name`, an edge of `cell` (the cell of the last move_to).
   std::size_t index(std::int64_t cell, std::int64_t name) const {
-    const std::int64_t d = name / 8 - cell;  // the lower end's corner offset
+    const std::int64_t d = name / kNames - cell;  // the lowest corner's offset
     const std::size_t row =
         (d >= grid_.offset(4) ? 2 : 0) + ((d % grid_.offset(4)) >= grid_.offset(2) ? 1 : 0);
     std::size_t i = at_[row];
@@ -235,19 +246,21 @@ double crossing(double va, double vb, double iso) {
 
 // The same for the max of parts, each linear along the edge, at points i (lower end) and j: the inside,
 // where every part is below iso, is the overlap of the parts' insides, an interval at the inside end;
-// the crossing is its other end.
+// the crossing is its other end. `part`, if given, receives which part crosses there.
 double crossing_of_max(std::span<const std::span<const double>> parts, std::size_t i, std::size_t j,
-                       double iso) {
+                       double iso, std::uint8_t* part = nullptr) {
   const auto cross = [&](double v0, double v1) { return (iso - v0) / (v1 - v0); };
   bool lower_inside = true;
-  for (const auto& part : parts) lower_inside = lower_inside && part[i] < iso;
+  for (const auto& p : parts) lower_inside = lower_inside && p[i] < iso;
   double t = lower_inside ? 1.0 : 0.0;
-  for (const auto& part : parts) {
-    const double v0 = part[i], v1 = part[j];
-    if (lower_inside)  // the part that leaves first
-      t = std::min(t, v1 < iso ? 1.0 : cross(v0, v1));
-    else  // the part that enters last
-      t = std::max(t, v0 < iso ? 0.0 : cross(v0, v1));
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    const double v0 = parts[k][i], v1 = parts[k][j];
+    // lower_inside: the part that leaves first; else the part that enters last
+    const double t_k = lower_inside ? (v1 < iso ? 1.0 : cross(v0, v1)) : (v0 < iso ? 0.0 : cross(v0, v1));
+    if (lower_inside ? t_k < t : t_k > t) {
+      t = t_k;
+      if (part) *part = static_cast<std::uint8_t>(k);
+    }
   }
   return std::clamp(t, kSnap, 1.0 - kSnap);
 }
@@ -264,29 +277,155 @@ Vec3 direction(int bits) {
   return Vec3(bits & 1, (bits >> 1) & 1, (bits >> 2) & 1);
 }
 
-using EdgeTriangle = std::array<std::int64_t, 3>;  // triangle as three edge names
+using EdgeTriangle = std::array<std::int64_t, 3>;  // triangle as three vertex names
+
+// The parts' values at a cube's sampled corners, for the tetrahedra where two parts cross.
+struct CellParts {
+  std::span<const std::span<const double>> parts;
+  bool sharp = true;                        // crease points where two parts cross
+  unsigned crease_parts = 0;                // SparseField's
+  std::array<std::int64_t, 8> positions{};  // each corner's place in the field; -1: not sampled
+};
+
+// The name of the crease point of parts i < j on the Kuhn triangle with cube corners c (nested bit sets:
+// named from the lowest, by the other two's steps from it).
+std::int64_t face_point_name(std::int64_t cell, std::array<int, 3> c, std::size_t i, std::size_t j,
+                             const PaddedGrid& grid) {
+  std::sort(c.begin(), c.end(), [](int x, int y) {
+    return std::popcount(static_cast<unsigned>(x)) < std::popcount(static_cast<unsigned>(y));
+  });
+  const std::int64_t pair = i == 0 ? static_cast<std::int64_t>(j) - 1 : 2;  // {0,1}, {0,2}, {1,2}
+  return (cell + grid.offset(c[0])) * kNames + kFaceNames + ((c[1] ^ c[0]) * 8 + (c[2] ^ c[0])) * 3 + pair;
+}
+
+// One tetrahedron's patch: its corners' vertex names, places in the cube (to choose the triangles), and,
+// where the field has parts, the part each lies on and its place along its edge as the mesh has it.
+struct TetPatch {
+  static constexpr std::uint8_t kUnknownPart = kOnCrease - 1;  // an end of its edge not sampled
+  int size = 0;
+  std::array<std::int64_t, 4> name{};
+  std::array<Vec3, 4> pos;
+  std::array<std::uint8_t, 4> part{kUnknownPart, kUnknownPart, kUnknownPart, kUnknownPart};
+  std::array<double, 4> along{};
+};
+
+// A patch on two or more parts' faces, split at their creases (tet_creases.hpp). Each crease point is
+// decided from its face alone, and the part of each vertex from its edge alone, so the tetrahedron on the
+// face's other side makes the same point between the same two vertices.
+void split_patch(std::int64_t cell, std::size_t t, const Patch& patch, const TetPatch& tp,
+                 const CellParts& cell_parts, const PaddedGrid& grid, double iso,
+                 std::vector<EdgeTriangle>& out) {
+  const Tet& tet = tables().tets[t];
+  const std::size_t parts = cell_parts.parts.size();
+  const auto sampled = [&](int c) { return cell_parts.positions[static_cast<std::size_t>(c)] >= 0; };
+  const auto value = [&](std::size_t k, int corner) {
+    return cell_parts
+        .parts[k][static_cast<std::size_t>(cell_parts.positions[static_cast<std::size_t>(corner)])];
+  };
+  thread_local std::vector<PatchCorner> corners;  // reused: a tenth of the mesh stage went to allocating
+  thread_local std::vector<std::int64_t> names;
+  thread_local std::vector<std::array<int, 3>> pieces;
+  corners.clear();
+  names.clear();
+  pieces.clear();
+  for (std::size_t e = 0; e < static_cast<std::size_t>(tp.size); ++e) {
+    const std::size_t f = (e + 1) % static_cast<std::size_t>(tp.size);
+    corners.push_back({tp.pos[e], tp.part[e]});
+    names.push_back(tp.name[e]);
+    const auto known = [](std::uint8_t p) { return p != TetPatch::kUnknownPart && p != kOnCrease; };
+    if (tp.part[e] == tp.part[f] || !known(tp.part[e]) || !known(tp.part[f])) continue;
+    // The tetrahedron's face holding both edges: their three corners.
+    std::array<int, 4> ends{tet[patch.edges[e][0]], tet[patch.edges[e][1]], tet[patch.edges[f][0]],
+                            tet[patch.edges[f][1]]};
+    std::sort(ends.begin(), ends.end());
+    std::array<int, 3> face{};
+    std::unique_copy(ends.begin(), ends.end(), face.begin());
+    if (!std::all_of(face.begin(), face.end(), sampled)) continue;
+    const std::size_t i = std::min(tp.part[e], tp.part[f]), j = std::max(tp.part[e], tp.part[f]);
+    const auto creased = [&](std::size_t k) { return (cell_parts.crease_parts >> k) & 1u; };
+    if (!creased(i) || !creased(j)) continue;
+    std::array<std::array<double, 3>, kMaxTetParts> values{};
+    bool others_inside = true;
+    for (std::size_t k = 0; k < parts; ++k)
+      for (std::size_t c = 0; c < 3; ++c) {
+        values[k][c] = value(k, face[c]);
+        others_inside = others_inside && (creased(k) || values[k][c] < iso);
+      }
+    if (!others_inside) continue;
+    const auto w = face_crease_weights(std::span(values.data(), parts), i, j, iso, kSnap);
+    if (!w) continue;
+    // Not next to either vertex (slivers, for a chamfer too small to matter): in the face's barycentric
+    // coordinates, which both tetrahedra beside it compute alike.
+    const auto near_vertex = [&](std::size_t edge) {
+      const int a = tet[patch.edges[edge][0]], b = tet[patch.edges[edge][1]];
+      double farthest = 0.0;
+      for (std::size_t c = 0; c < 3; ++c) {
+        const double vertex =
+            face[c] == (a & b) ? 1.0 - tp.along[edge] : (face[c] == (a | b) ? tp.along[edge] : 0.0);
+        farthest = std::max(farthest, std::abs((*w)[c] - vertex));
+      }
+      return farthest < kCreaseClearance;
+    };
+    if (near_vertex(e) || near_vertex(f)) continue;
+    corners.push_back(
+        {(*w)[0] * direction(face[0]) + (*w)[1] * direction(face[1]) + (*w)[2] * direction(face[2]),
+         kOnCrease});
+    names.push_back(face_point_name(cell, face, i, j, grid));
+  }
+  std::optional<Vec3> inside;  // where three parts' creases meet
+  if (parts == kMaxTetParts && (cell_parts.crease_parts & 7u) == 7u &&
+      std::all_of(tet.begin(), tet.end(), sampled)) {
+    std::array<std::array<double, 4>, kMaxTetParts> values{};
+    for (std::size_t k = 0; k < parts; ++k)
+      for (std::size_t c = 0; c < 4; ++c) values[k][c] = value(k, tet[c]);
+    if (const auto w = inside_crease_weights(values, iso, kSnap)) {
+      inside = Vec3::Zero();
+      for (std::size_t c = 0; c < 4; ++c) *inside += (*w)[c] * direction(tet[c]);
+    }
+  }
+  names.push_back(cell * kNames + kInsideNames + static_cast<std::int64_t>(t));
+  split_at_creases(corners, inside ? &*inside : nullptr, pieces);
+  for (const auto& piece : pieces)
+    out.push_back({names[static_cast<std::size_t>(piece[0])], names[static_cast<std::size_t>(piece[1])],
+                   names[static_cast<std::size_t>(piece[2])]});
+}
 
 // Appends the triangles of one cube.
-void polygonize_cell(std::int64_t cell, const std::array<double, 8>& v, const PaddedGrid& grid, double iso,
-                     std::vector<EdgeTriangle>& out) {
+void polygonize_cell(std::int64_t cell, const std::array<double, 8>& v, const CellParts* cell_parts,
+                     const PaddedGrid& grid, double iso, std::vector<EdgeTriangle>& out) {
   int cube_mask = 0;
   for (int c = 0; c < 8; ++c) cube_mask |= (v[c] < iso) << c;
   if (cube_mask == 0 || cube_mask == 0xFF) return;
 
-  for (const Tet& tet : tables().tets) {
+  for (std::size_t t = 0; t < tables().tets.size(); ++t) {
+    const Tet& tet = tables().tets[t];
     int mask = 0;
     for (int i = 0; i < 4; ++i) mask |= ((cube_mask >> tet[i]) & 1) << i;
     const Patch& patch = tables().patches[mask];
     if (patch.size == 0) continue;
-    std::array<std::int64_t, 4> name{};
-    std::array<Vec3, 4> pos;  // in cube-local index space, only to pick the quad diagonal
-    for (int e = 0; e < patch.size; ++e) {
+    TetPatch tp;
+    tp.size = patch.size;
+    for (std::size_t e = 0; e < static_cast<std::size_t>(patch.size); ++e) {
       const int a = tet[patch.edges[e][0]], b = tet[patch.edges[e][1]];
       const int lo = a & b, bits = a ^ b;  // Kuhn edges join nested corners: lo is the lower end
-      name[e] = (cell + grid.offset(lo)) * 8 + bits;
-      pos[e] = direction(lo) + crossing(v[lo], v[lo | bits], iso) * direction(bits);
+      tp.name[e] = (cell + grid.offset(lo)) * kNames + bits;
+      tp.pos[e] = direction(lo) + crossing(v[lo], v[lo | bits], iso) * direction(bits);
+      const auto at = [&](int c) {
+        return cell_parts ? cell_parts->positions[static_cast<std::size_t>(c)] : -1;
+      };
+      if (at(lo) >= 0 && at(lo | bits) >= 0) {
+        const auto i = static_cast<std::size_t>(at(lo)), j = static_cast<std::size_t>(at(lo | bits));
+        tp.part[e] = 0;
+        tp.along[e] = crossing_of_max(cell_parts->parts, i, j, iso, &tp.part[e]);
+      }
     }
-    if (patch.size == 3) {
+    const auto& name = tp.name;
+    const auto& pos = tp.pos;
+    if (cell_parts && cell_parts->sharp &&
+        std::any_of(tp.part.begin() + 1, tp.part.begin() + patch.size,
+                    [&](std::uint8_t p) { return p != tp.part[0]; })) {
+      split_patch(cell, t, patch, tp, *cell_parts, grid, iso, out);
+    } else if (patch.size == 3) {
       out.push_back({name[0], name[1], name[2]});
     } else if ((pos[2] - pos[0]).squaredNorm() <= (pos[3] - pos[1]).squaredNorm()) {
       out.push_back({name[0], name[1], name[2]});
@@ -296,6 +435,33 @@ void polygonize_cell(std::int64_t cell, const std::array<double, 8>& v, const Pa
       out.push_back({name[1], name[3], name[0]});
     }
   }
+}
+
+// A crease vertex's place from its lowest corner, in index units (tet_creases.hpp): on a Kuhn
+// triangle, where its two parts are both at iso; inside a tetrahedron, where three are.
+Vec3 crease_point(const FieldLookup& lookup, const PaddedGrid& grid, std::int64_t lower, std::int64_t kind,
+                  double iso) {
+  const auto value = [&](std::size_t part, int corner) {
+    return lookup.parts[part][*lookup.position(lower + grid.offset(corner))];
+  };
+  if (kind >= kInsideNames) {
+    const Tet& tet = tables().tets[static_cast<std::size_t>(kind - kInsideNames)];
+    std::array<std::array<double, 4>, kMaxTetParts> values{};
+    for (std::size_t k = 0; k < kMaxTetParts; ++k)
+      for (std::size_t c = 0; c < 4; ++c) values[k][c] = value(k, tet[c]);
+    const auto w = inside_crease_weights(values, iso, kSnap);  // named only where it exists
+    Vec3 p = Vec3::Zero();
+    for (std::size_t c = 0; c < 4; ++c) p += (*w)[c] * direction(tet[c]);
+    return p;
+  }
+  const std::int64_t face = (kind - kFaceNames) / 3, pair = (kind - kFaceNames) % 3;
+  const std::array<int, 3> corner{0, static_cast<int>(face / 8), static_cast<int>(face % 8)};
+  std::array<std::array<double, 3>, kMaxTetParts> values{};
+  for (std::size_t k = 0; k < lookup.parts.size(); ++k)
+    for (std::size_t c = 0; c < 3; ++c) values[k][c] = value(k, corner[c]);
+  const std::size_t i = pair == 2 ? 1 : 0, j = pair == 0 ? 1 : 2;
+  const auto w = face_crease_weights(std::span(values.data(), lookup.parts.size()), i, j, iso, kSnap);
+  return (*w)[1] * direction(corner[1]) + (*w)[2] * direction(corner[2]);  // named only where it exists
 }
 
 FieldLookup sorted_field(const SparseField& field, const PaddedGrid& grid) {
@@ -317,6 +483,7 @@ FieldLookup sorted_field(const SparseField& field, const PaddedGrid& grid) {
         std::all_of(field.parts.begin(), field.parts.end(), [&](auto p) { return p.size() == n; });
     if (!sorted || !sized)
       throw std::invalid_argument("isosurface: parts need points in key order, one value each");
+    if (field.parts.size() > kMaxTetParts) throw std::invalid_argument("isosurface: at most 3 parts");
     lookup.parts = field.parts;
   }
   if (sorted) {
@@ -345,7 +512,8 @@ PaddedGrid checked_grid(const SparseField& field, double iso) {
     throw InputError("the iso level must be below the background value " + std::to_string(field.background));
   const auto& dims = field.grid->dims();
   const PaddedGrid grid{dims[0] + 2, dims[1] + 2, dims[2] + 2};
-  if (static_cast<double>(grid.nx) * static_cast<double>(grid.ny) * static_cast<double>(grid.nz) > 0x1p59)
+  if (static_cast<double>(grid.nx) * static_cast<double>(grid.ny) * static_cast<double>(grid.nz) >
+      0x1p54)  // names: key * kNames
     throw InputError("the grid is too large for isosurface extraction; lower the resolution");
   return grid;
 }
@@ -455,22 +623,27 @@ TriangleMesh extract_isosurface(const SparseField& field, double iso, const Stag
   std::vector<std::size_t> first_triangle(chunks + 1, 0);
   std::vector<std::vector<std::int64_t>> used(chunks);           // the names each chunk's cubes own
   std::vector<std::vector<std::int64_t>> surface_cells(chunks);  // each chunk's cubes with triangles
+  const bool with_parts = !lookup.parts.empty();
   monitored_for(chunks, progress.part(0.05, 0.6), [&](std::size_t c) {
     std::vector<EdgeTriangle> triangles;
     const std::vector<std::int64_t> cells = chunk_cells(c);
     CornerReader corners(lookup, grid, cells.empty() ? 0 : cells.front());
+    CellParts cell_parts{lookup.parts, field.sharp_creases, field.crease_parts, {}};
+    std::vector<std::int64_t> owned;  // the names from the cube's corner 0
     for (std::int64_t cell : cells) {
       triangles.clear();
-      polygonize_cell(cell, corners.at(cell), grid, iso, triangles);
+      const std::array<double, 8> v = corners.at(cell, with_parts ? &cell_parts.positions : nullptr);
+      polygonize_cell(cell, v, with_parts ? &cell_parts : nullptr, grid, iso, triangles);
       if (triangles.empty()) continue;
       surface_cells[c].push_back(cell);
       first_triangle[c + 1] += triangles.size();
-      unsigned owned = 0;  // bit b: the edge from corner 0 in direction b
+      owned.clear();
       for (const EdgeTriangle& t : triangles)
         for (std::int64_t name : t)
-          if (name / 8 == cell) owned |= 1u << (name % 8);
-      for (int bits = 1; bits < 8; ++bits)
-        if ((owned >> bits) & 1) used[c].push_back(cell * 8 + bits);
+          if (name / kNames == cell) owned.push_back(name);
+      std::sort(owned.begin(), owned.end());
+      owned.erase(std::unique(owned.begin(), owned.end()), owned.end());
+      used[c].insert(used[c].end(), owned.begin(), owned.end());
     }
     surface_cells[c].shrink_to_fit();
     used[c].shrink_to_fit();
@@ -493,8 +666,13 @@ TriangleMesh extract_isosurface(const SparseField& field, double iso, const Stag
   mesh.vertices.resize(vertex_count);
   const Grid& g = *field.grid;
   monitored_for(vertex_count, progress.part(0.6, 0.7), [&](std::size_t i) {
-    const std::int64_t lower = names[i] / 8;
-    const int bits = static_cast<int>(names[i] % 8);
+    const std::int64_t lower = names[i] / kNames, kind = names[i] % kNames;
+    if (kind >= kFaceNames) {
+      mesh.vertices[i] =
+          g.origin() + g.h() * (grid.index(lower) + crease_point(lookup, grid, lower, kind, iso));
+      return;
+    }
+    const int bits = static_cast<int>(kind);
     const std::int64_t upper = lower + grid.offset(bits);
     const double t = vertex_crossing(lookup, lower, upper, iso);
     mesh.vertices[i] = g.origin() + g.h() * (grid.index(lower) + t * direction(bits));
@@ -506,10 +684,12 @@ TriangleMesh extract_isosurface(const SparseField& field, double iso, const Stag
     const std::int64_t first_cell = surface_cells[c].empty() ? 0 : surface_cells[c].front();
     CornerReader corners(lookup, grid, first_cell);
     NameReader vertices(names, grid, first_cell);
+    CellParts cell_parts{lookup.parts, field.sharp_creases, field.crease_parts, {}};
     std::size_t i = first_triangle[c];
     for (std::int64_t cell : surface_cells[c]) {
       triangles.clear();
-      polygonize_cell(cell, corners.at(cell), grid, iso, triangles);
+      const std::array<double, 8> v = corners.at(cell, with_parts ? &cell_parts.positions : nullptr);
+      polygonize_cell(cell, v, with_parts ? &cell_parts : nullptr, grid, iso, triangles);
       vertices.move_to(cell);
       for (const EdgeTriangle& t : triangles) {
         for (int corner = 0; corner < 3; ++corner)

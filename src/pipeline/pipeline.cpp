@@ -320,7 +320,7 @@ PipelineResult run_pipeline(const Input& input, const PreparedInput& prepared, R
     const double meshed = reducing ? 0.04 : 0.6, reduced = reducing ? 0.95 : 0.6,
                  checked = reducing ? 0.97 : 0.9;
     MeshOutput& out = result.meshes[level];
-    out.mesh = shell_mode ? shell_mesh(*shell, out.iso, share.part(0.0, meshed))
+    out.mesh = shell_mode ? shell_mesh(*shell, out.iso, share.part(0.0, meshed), !reducing)
                           : narrow_volume_mesh(band, phi, out.iso);
     if (level + 1 == options.iso.size()) shell.reset();  // the samples, before the checks
     share.advance(meshed);

@@ -199,7 +199,8 @@ ShellSamples sample_shell(const Surface& surface, const NarrowBand& band, std::s
   return out;
 }
 
-TriangleMesh shell_mesh(const ShellSamples& samples, double iso, const StageProgress& progress) {
+TriangleMesh shell_mesh(const ShellSamples& samples, double iso, const StageProgress& progress,
+                        bool sharp_creases) {
   std::vector<double> pores(samples.points.size()), values(samples.points.size());
   tbb::parallel_for(std::size_t{0}, values.size(), [&](std::size_t n) {
     pores[n] = samples.pattern_length * (samples.pattern[n] - iso);
@@ -209,9 +210,15 @@ TriangleMesh shell_mesh(const ShellSamples& samples, double iso, const StageProg
   // The pores' walls meet the wall's faces, and those the end faces at the trim line, at sharp edges:
   // meshed from the parts (isosurface.hpp).
   std::vector<std::span<const double>> parts{samples.wall, pores};
-  if (!samples.trim.empty()) parts = {samples.slab, samples.trim, pores};
   SparseField field{&samples.grid, samples.points, values, samples.grid.h()};
+  if (!samples.trim.empty()) {
+    parts = {samples.slab, samples.trim, pores};
+    // Past the trim line the slab's distance is to the boundary, not the surface: its creases with the
+    // pores get vertices only inside the line, and the end faces' edges none.
+    field.crease_parts = 0b101;
+  }
   field.parts = parts;
+  field.sharp_creases = sharp_creases;
   return extract_isosurface(field, 0.0, progress);
 }
 
