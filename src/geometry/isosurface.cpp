@@ -396,6 +396,17 @@ void polygonize_cell(std::int64_t cell, const std::array<double, 8>& v, const Ce
   int cube_mask = 0;
   for (int c = 0; c < 8; ++c) cube_mask |= (v[c] < iso) << c;
   if (cube_mask == 0 || cube_mask == 0xFF) return;
+  // Creases only where two parts are outside at the cube's corners: elsewhere one part makes all of its
+  // surface, and the parts need not be read (a face with a crease point is a face of this cube too).
+  if (cell_parts && cell_parts->sharp) {
+    unsigned outside = 0;
+    for (std::size_t c = 0; c < 8; ++c)
+      if (cell_parts->positions[c] >= 0)
+        for (std::size_t k = 0; k < cell_parts->parts.size(); ++k)
+          if (!(cell_parts->parts[k][static_cast<std::size_t>(cell_parts->positions[c])] < iso))
+            outside |= 1u << k;
+    if (std::popcount(outside) < 2) cell_parts = nullptr;
+  }
 
   for (std::size_t t = 0; t < tables().tets.size(); ++t) {
     const Tet& tet = tables().tets[t];
