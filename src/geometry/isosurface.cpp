@@ -12,14 +12,14 @@
 // Pore counting needs the Euler characteristic exactly, so we use a method that is correct by
 // construction; the same stress test gives valid meshes for all 1200 fields here.
 //
-// Vertices are named by the grid edge they lie on, (lower end point key, direction bits), and
-// numbered in the order of those names, so the output is deterministic for any thread count. Crossing
-// parameters are clamped to [kSnap, 1 - kSnap]: every vertex stays strictly inside its edge, so
-// distinct edges give distinct points and no triangle is degenerate even when values equal iso; and
-// no vertex comes near a grid point, where marching tetrahedra make slivers. On a shell of 589,448
-// triangles, kSnap = 0.001 left 7,520 triangles with an angle under 1 degree (302 under 0.1); 0.05
-// leaves none (smallest 1.4 degrees) and moves the surface by at most 0.05 of an edge; 0.15 left none
-// under 5 degrees but moved a 3-cell wall's faces by 5% of its thickness.
+// Vertices are named by the grid edge they lie on, (lower end point key, direction bits), or for crease
+// points by their Kuhn triangle or tetrahedron (kNames), and numbered in the order of those names, so the
+// output is deterministic for any thread count. Crossing parameters are clamped to [kSnap, 1 - kSnap]: every
+// vertex stays strictly inside its edge, so distinct edges give distinct points and no triangle is degenerate
+// even when values equal iso; and no vertex comes near a grid point, where marching tetrahedra make slivers.
+// On a shell of 589,448 triangles, kSnap = 0.001 left 7,520 triangles with an angle under 1 degree (302 under
+// 0.1); 0.05 leaves none (smallest 1.4 degrees) and moves the surface by at most 0.05 of an edge; 0.15 left
+// none under 5 degrees but moved a 3-cell wall's faces by 5% of its thickness.
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -282,18 +282,14 @@ using EdgeTriangle = std::array<std::int64_t, 3>;  // triangle as three vertex n
 // The parts' values at a cube's sampled corners, for the tetrahedra where two parts cross.
 struct CellParts {
   std::span<const std::span<const double>> parts;
-  bool sharp = true;                        // crease points where two parts cross
   unsigned crease_parts = 0;                // SparseField's
   std::array<std::int64_t, 8> positions{};  // each corner's place in the field; -1: not sampled
 };
 
-// The name of the crease point of parts i < j on the Kuhn triangle with cube corners c (nested bit sets:
-// named from the lowest, by the other two's steps from it).
-std::int64_t face_point_name(std::int64_t cell, std::array<int, 3> c, std::size_t i, std::size_t j,
+// The name of the crease point of parts i < j on the Kuhn triangle with cube corners c, ascending: nested
+// bit sets, so the first is the lowest, and the name is its key and the other two's steps from it.
+std::int64_t face_point_name(std::int64_t cell, const std::array<int, 3>& c, std::size_t i, std::size_t j,
                              const PaddedGrid& grid) {
-  std::sort(c.begin(), c.end(), [](int x, int y) {
-    return std::popcount(static_cast<unsigned>(x)) < std::popcount(static_cast<unsigned>(y));
-  });
   const std::int64_t pair = i == 0 ? static_cast<std::int64_t>(j) - 1 : 2;  // {0,1}, {0,2}, {1,2}
   return (cell + grid.offset(c[0])) * kNames + kFaceNames + ((c[1] ^ c[0]) * 8 + (c[2] ^ c[0])) * 3 + pair;
 }
@@ -398,7 +394,7 @@ void polygonize_cell(std::int64_t cell, const std::array<double, 8>& v, const Ce
   if (cube_mask == 0 || cube_mask == 0xFF) return;
   // Creases only where two parts are outside at the cube's corners: elsewhere one part makes all of its
   // surface, and the parts need not be read (a face with a crease point is a face of this cube too).
-  if (cell_parts && cell_parts->sharp) {
+  if (cell_parts) {
     unsigned outside = 0;
     for (std::size_t c = 0; c < 8; ++c)
       if (cell_parts->positions[c] >= 0)
@@ -432,9 +428,8 @@ void polygonize_cell(std::int64_t cell, const std::array<double, 8>& v, const Ce
     }
     const auto& name = tp.name;
     const auto& pos = tp.pos;
-    if (cell_parts && cell_parts->sharp &&
-        std::any_of(tp.part.begin() + 1, tp.part.begin() + patch.size,
-                    [&](std::uint8_t p) { return p != tp.part[0]; })) {
+    if (cell_parts && std::any_of(tp.part.begin() + 1, tp.part.begin() + patch.size,
+                                  [&](std::uint8_t p) { return p != tp.part[0]; })) {
       split_patch(cell, t, patch, tp, *cell_parts, grid, iso, out);
     } else if (patch.size == 3) {
       out.push_back({name[0], name[1], name[2]});
@@ -634,12 +629,13 @@ TriangleMesh extract_isosurface(const SparseField& field, double iso, const Stag
   std::vector<std::size_t> first_triangle(chunks + 1, 0);
   std::vector<std::vector<std::int64_t>> used(chunks);           // the names each chunk's cubes own
   std::vector<std::vector<std::int64_t>> surface_cells(chunks);  // each chunk's cubes with triangles
-  const bool with_parts = !lookup.parts.empty();
+  // The parts are read only for crease points.
+  const bool with_parts = !lookup.parts.empty() && field.sharp_creases;
   monitored_for(chunks, progress.part(0.05, 0.6), [&](std::size_t c) {
     std::vector<EdgeTriangle> triangles;
     const std::vector<std::int64_t> cells = chunk_cells(c);
     CornerReader corners(lookup, grid, cells.empty() ? 0 : cells.front());
-    CellParts cell_parts{lookup.parts, field.sharp_creases, field.crease_parts, {}};
+    CellParts cell_parts{lookup.parts, field.crease_parts, {}};
     std::vector<std::int64_t> owned;  // the names from the cube's corner 0
     for (std::int64_t cell : cells) {
       triangles.clear();
@@ -695,7 +691,7 @@ TriangleMesh extract_isosurface(const SparseField& field, double iso, const Stag
     const std::int64_t first_cell = surface_cells[c].empty() ? 0 : surface_cells[c].front();
     CornerReader corners(lookup, grid, first_cell);
     NameReader vertices(names, grid, first_cell);
-    CellParts cell_parts{lookup.parts, field.sharp_creases, field.crease_parts, {}};
+    CellParts cell_parts{lookup.parts, field.crease_parts, {}};
     std::size_t i = first_triangle[c];
     for (std::int64_t cell : surface_cells[c]) {
       triangles.clear();
