@@ -24,7 +24,6 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
-#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <bit>
@@ -34,210 +33,21 @@
 #include <limits>
 #include <optional>
 #include <span>
-#include <stdexcept>
 
 #include "core/error.hpp"
 #include "core/parallel.hpp"
+#include "geometry/kuhn_grid.hpp"
 #include "geometry/tet_creases.hpp"
 
 namespace poreshell {
+using namespace kuhn;
 namespace {
 
 constexpr double kSnap = 0.05;  // in units of the edge length
-// Vertex names: point key * kNames + what the vertex lies on, from that point (its lowest corner):
-// 1-7 a grid edge (its direction bits); kFaceNames a Kuhn triangle's crease point; kInsideNames a
-// crease meeting point inside one of the cube's tetrahedra (tet_creases.hpp).
-constexpr std::int64_t kNames = 256, kFaceNames = 8, kInsideNames = 200;
 // A crease point this near a vertex beside it (the largest difference of their barycentric coordinates
 // on the face) is not made: the triangles between them would be slivers.
 constexpr double kCreaseClearance = 0.15;
 constexpr std::size_t kPointsPerChunk = 16384;  // at least; chunks depend on the field, not the threads
-
-// Cube corners are 3-bit masks (bit 0: +x, bit 1: +y, bit 2: +z).
-using Tet = std::array<int, 4>;
-
-// One surface patch per tetrahedron sign pattern: 3 or 4 tet edges (pairs of tet vertices) in
-// counter-clockwise order seen from outside (from the larger values).
-struct Patch {
-  int size = 0;
-  std::array<std::array<int, 2>, 4> edges{};
-};
-
-struct Tables {
-  std::array<Tet, 6> tets{};
-  std::array<Patch, 16> patches{};  // by inside mask over the 4 tet vertices
-};
-
-int corner_det(const Tet& t) {
-  auto v = [](int c, int a) { return (c >> a) & 1; };
-  int m[3][3];
-  for (int r = 0; r < 3; ++r)
-    for (int a = 0; a < 3; ++a) m[r][a] = v(t[r + 1], a) - v(t[0], a);
-  return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
-         m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
-         m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
-}
-
-Tables make_tables() {
-  Tables tables;
-  std::array<int, 3> axes{0, 1, 2};
-  int n = 0;
-  do {  // Kuhn tetrahedron: walk from corner 0 to corner 7 adding one axis at a time.
-    const int a = 1 << axes[0], b = a | (1 << axes[1]);
-    Tet t{0, a, b, 7};
-    if (corner_det(t) < 0) std::swap(t[2], t[3]);  // positive orientation for the patch table
-    tables.tets[n++] = t;
-  } while (std::next_permutation(axes.begin(), axes.end()));
-
-  // Even permutations of the tet vertices keep the orientation positive. For (p0, p1, p2, p3)
-  // positive, the triangle (p0p1, p0p2, p0p3) faces away from p0 (derivation: its normal dotted
-  // with p1 - p0 is the tet's determinant).
-  std::array<int, 4> p{0, 1, 2, 3};
-  std::vector<std::array<int, 4>> even;
-  do {
-    int inversions = 0;
-    for (int i = 0; i < 4; ++i)
-      for (int j = i + 1; j < 4; ++j) inversions += p[i] > p[j];
-    if (inversions % 2 == 0) even.push_back(p);
-  } while (std::next_permutation(p.begin(), p.end()));
-
-  for (int mask = 1; mask < 15; ++mask) {
-    Patch& patch = tables.patches[mask];
-    const int inside = std::popcount(static_cast<unsigned>(mask));
-    for (const auto& q : even) {
-      const bool in0 = (mask >> q[0]) & 1, in1 = (mask >> q[1]) & 1;
-      if (inside == 1 && in0) {  // faces away from the inside vertex q0
-        patch = {3, {{{q[0], q[1]}, {q[0], q[2]}, {q[0], q[3]}}}};
-        break;
-      }
-      if (inside == 3 && !in0) {  // faces towards the outside vertex q0
-        patch = {3, {{{q[0], q[1]}, {q[0], q[3]}, {q[0], q[2]}}}};
-        break;
-      }
-      if (inside == 2 && in0 && in1) {  // quad around the inside edge q0q1
-        patch = {4, {{{q[0], q[2]}, {q[0], q[3]}, {q[1], q[3]}, {q[1], q[2]}}}};
-        break;
-      }
-    }
-  }
-  return tables;
-}
-
-const Tables& tables() {
-  static const Tables t = make_tables();
-  return t;
-}
-
-// The grid padded by one layer on each side, so the cells around points on the grid boundary
-// (whose far corners hold the background) have valid keys.
-struct PaddedGrid {
-  std::int64_t nx, ny, nz;
-  std::int64_t key(const Coord& c) const { return (c.i + 1) + nx * ((c.j + 1) + ny * (c.k + 1)); }
-  std::int64_t offset(int corner) const {
-    return (corner & 1) + nx * ((corner >> 1) & 1) + nx * ny * (corner >> 2);
-  }
-  // Grid-index coordinates of a padded key (may be -1 or N).
-  Vec3 index(std::int64_t key) const {
-    return Vec3(static_cast<double>(key % nx - 1), static_cast<double>((key / nx) % ny - 1),
-                static_cast<double>(key / (nx * ny) - 1));
-  }
-};
-
-// The field as sorted (padded key, value) arrays; missing points hold the background.
-struct FieldLookup {
-  std::vector<std::int64_t> keys;
-  std::vector<double> values;
-  double background = 1.0;
-  std::span<const std::span<const double>> parts;  // SparseField's, in key order (empty: none)
-
-  double at(std::int64_t key) const {
-    const auto it = std::lower_bound(keys.begin(), keys.end(), key);
-    return it != keys.end() && *it == key ? values[it - keys.begin()] : background;
-  }
-  std::optional<std::size_t> position(std::int64_t key) const {
-    const auto it = std::lower_bound(keys.begin(), keys.end(), key);
-    if (it == keys.end() || *it != key) return std::nullopt;
-    return static_cast<std::size_t>(it - keys.begin());
-  }
-};
-
-// The 8 corner values of cubes visited in ascending key order, read by four forward cursors (one per
-// row of the cube along x) instead of a binary search per row and cube: consecutive cubes share rows,
-// so a cursor moves a few entries, and over a chunk each walks its key range once. The searches were
-// half the extraction at millions of samples.
-class CornerReader {
- public:
-  CornerReader(const FieldLookup& field, const PaddedGrid& grid, std::int64_t first_cell)
-      : field_(field), grid_(grid) {
-    for (int r = 0; r < 4; ++r)
-      at_[static_cast<std::size_t>(r)] = static_cast<std::size_t>(
-          std::lower_bound(field.keys.begin(), field.keys.end(), first_cell + grid.offset(r << 1)) -
-          field.keys.begin());
-  }
-
-  // Corner c = bit 0 (+x), bit 1 (+y), bit 2 (+z); cell must not be below the previous one. `positions`
-  // receives each corner's place in the field (-1: not sampled).
-  std::array<double, 8> at(std::int64_t cell, std::array<std::int64_t, 8>* positions = nullptr) {
-    std::array<double, 8> v;
-    const std::size_t n = field_.keys.size();
-    for (int r = 0; r < 4; ++r) {
-      const std::int64_t key = cell + grid_.offset(r << 1);
-      std::size_t& i = at_[static_cast<std::size_t>(r)];
-      while (i < n && field_.keys[i] < key) ++i;
-      for (int x = 0; x < 2; ++x) {
-        const std::size_t j = i + static_cast<std::size_t>(x > 0 && i < n && field_.keys[i] == key);
-        const bool sampled = j < n && field_.keys[j] == key + x;
-        v[static_cast<std::size_t>((r << 1) | x)] = sampled ? field_.values[j] : field_.background;
-        if (positions)
-          (*positions)[static_cast<std::size_t>((r << 1) | x)] = sampled ? static_cast<std::int64_t>(j) : -1;
-      }
-    }
-    return v;
-  }
-
- private:
-  const FieldLookup& field_;
-  const PaddedGrid& grid_;
-  std::array<std::size_t, 4> at_{};
-};
-
-// The vertex index (position among all sorted edge names) of a cube's edges, for cubes visited in
-// ascending key order, by four forward cursors like CornerReader's: an edge's lower end is a corner of
-// its cube, so its name lies a few entries past the cursor of that corner's row. A binary search per
-// triangle corner over the names was a fifth of the extraction at 30 M triangles.
-class NameReader {
- public:
-  NameReader(const std::vector<std::int64_t>& names, const PaddedGrid& grid, std::int64_t first_cell)
-      : names_(names), grid_(grid) {
-    for (int r = 0; r < 4; ++r)
-      at_[static_cast<std::size_t>(r)] = static_cast<std::size_t>(
-          std::lower_bound(names.begin(), names.end(), kNames * (first_cell + grid.offset(r << 1))) -
-          names.begin());
-  }
-
-  // cell must not be below the previous one.
-  void move_to(std::int64_t cell) {
-    for (int r = 0; r < 4; ++r) {
-      const std::int64_t first_name = kNames * (cell + grid_.offset(r << 1));
-      std::size_t& i = at_[static_cast<std::size_t>(r)];
-      while (i < names_.size() && names_[i] < first_name) ++i;
-    }
-  }
-  // Index of `name`, an edge of `cell` (the cell of the last move_to).
-  std::size_t index(std::int64_t cell, std::int64_t name) const {
-    const std::int64_t d = name / kNames - cell;  // the lowest corner's offset
-    const std::size_t row =
-        (d >= grid_.offset(4) ? 2 : 0) + ((d % grid_.offset(4)) >= grid_.offset(2) ? 1 : 0);
-    std::size_t i = at_[row];
-    while (names_[i] < name) ++i;
-    return i;
-  }
-
- private:
-  const std::vector<std::int64_t>& names_;
-  const PaddedGrid& grid_;
-  std::array<std::size_t, 4> at_{};
-};
 
 // Crossing parameter from the edge's lower end; exactly one of va, vb is below iso.
 double crossing(double va, double vb, double iso) {
@@ -468,60 +278,6 @@ Vec3 crease_point(const FieldLookup& lookup, const PaddedGrid& grid, std::int64_
   const std::size_t i = pair == 2 ? 1 : 0, j = pair == 0 ? 1 : 2;
   const auto w = face_crease_weights(std::span(values.data(), lookup.parts.size()), i, j, iso, kSnap);
   return (*w)[1] * direction(corner[1]) + (*w)[2] * direction(corner[2]);  // named only where it exists
-}
-
-FieldLookup sorted_field(const SparseField& field, const PaddedGrid& grid) {
-  const std::size_t n = field.points.size();
-  for (std::size_t p = 0; p < n; ++p) {
-    if (!field.grid->contains(field.points[p]))
-      throw std::invalid_argument("isosurface: point outside the grid");
-    if (std::isnan(field.values[p])) throw std::invalid_argument("isosurface: NaN field value");
-  }
-  FieldLookup lookup;
-  lookup.background = field.background;
-  lookup.keys.resize(n);
-  lookup.values.resize(n);
-  // Points given in key order (the shell's samples) are taken as they are: no sorted copy.
-  const auto by_key = [&](const Coord& a, const Coord& b) { return grid.key(a) < grid.key(b); };
-  const bool sorted = std::is_sorted(field.points.begin(), field.points.end(), by_key);
-  if (!field.parts.empty()) {
-    const bool sized =
-        std::all_of(field.parts.begin(), field.parts.end(), [&](auto p) { return p.size() == n; });
-    if (!sorted || !sized)
-      throw std::invalid_argument("isosurface: parts need points in key order, one value each");
-    if (field.parts.size() > kMaxTetParts) throw std::invalid_argument("isosurface: at most 3 parts");
-    lookup.parts = field.parts;
-  }
-  if (sorted) {
-    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t p) {
-      lookup.keys[p] = grid.key(field.points[p]);
-      lookup.values[p] = field.values[p];
-    });
-  } else {
-    std::vector<std::pair<std::int64_t, double>> entries(n);
-    for (std::size_t p = 0; p < n; ++p) entries[p] = {grid.key(field.points[p]), field.values[p]};
-    tbb::parallel_sort(entries.begin(), entries.end());
-    for (std::size_t p = 0; p < n; ++p) {
-      lookup.keys[p] = entries[p].first;
-      lookup.values[p] = entries[p].second;
-    }
-  }
-  if (std::adjacent_find(lookup.keys.begin(), lookup.keys.end()) != lookup.keys.end())
-    throw std::invalid_argument("isosurface: the same grid point is given twice");
-  return lookup;
-}
-
-PaddedGrid checked_grid(const SparseField& field, double iso) {
-  if (field.grid == nullptr || field.points.size() != field.values.size())
-    throw std::invalid_argument("isosurface: field needs a grid and one value per point");
-  if (!(field.background > iso))
-    throw InputError("the iso level must be below the background value " + std::to_string(field.background));
-  const auto& dims = field.grid->dims();
-  const PaddedGrid grid{dims[0] + 2, dims[1] + 2, dims[2] + 2};
-  if (static_cast<double>(grid.nx) * static_cast<double>(grid.ny) * static_cast<double>(grid.nz) >
-      0x1p54)  // names: key * kNames
-    throw InputError("the grid is too large for isosurface extraction; lower the resolution");
-  return grid;
 }
 
 // Per mask of the 8 corners of the cube at an inside point p (bit c: corner c inside; bit 0 is p):
