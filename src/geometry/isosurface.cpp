@@ -92,7 +92,6 @@ using EdgeTriangle = std::array<std::int64_t, 3>;  // triangle as three vertex n
 // The parts' values at a cube's sampled corners, for the tetrahedra where two parts cross.
 struct CellParts {
   std::span<const std::span<const double>> parts;
-  unsigned crease_parts = 0;                // SparseField's
   std::array<std::int64_t, 8> positions{};  // each corner's place in the field; -1: not sampled
 };
 
@@ -148,16 +147,9 @@ void split_patch(std::int64_t cell, std::size_t t, const Patch& patch, const Tet
     std::unique_copy(ends.begin(), ends.end(), face.begin());
     if (!std::all_of(face.begin(), face.end(), sampled)) continue;
     const std::size_t i = std::min(tp.part[e], tp.part[f]), j = std::max(tp.part[e], tp.part[f]);
-    const auto creased = [&](std::size_t k) { return (cell_parts.crease_parts >> k) & 1u; };
-    if (!creased(i) || !creased(j)) continue;
     std::array<std::array<double, 3>, kMaxTetParts> values{};
-    bool others_inside = true;
     for (std::size_t k = 0; k < parts; ++k)
-      for (std::size_t c = 0; c < 3; ++c) {
-        values[k][c] = value(k, face[c]);
-        others_inside = others_inside && (creased(k) || values[k][c] < iso);
-      }
-    if (!others_inside) continue;
+      for (std::size_t c = 0; c < 3; ++c) values[k][c] = value(k, face[c]);
     const auto w = face_crease_weights(std::span(values.data(), parts), i, j, iso, kSnap);
     if (!w) continue;
     // Not next to either vertex (slivers, for a chamfer too small to matter): in the face's barycentric
@@ -179,8 +171,7 @@ void split_patch(std::int64_t cell, std::size_t t, const Patch& patch, const Tet
     names.push_back(face_point_name(cell, face, i, j, grid));
   }
   std::optional<Vec3> inside;  // where three parts' creases meet
-  if (parts == kMaxTetParts && (cell_parts.crease_parts & 7u) == 7u &&
-      std::all_of(tet.begin(), tet.end(), sampled)) {
+  if (parts == kMaxTetParts && std::all_of(tet.begin(), tet.end(), sampled)) {
     std::array<std::array<double, 4>, kMaxTetParts> values{};
     for (std::size_t k = 0; k < parts; ++k)
       for (std::size_t c = 0; c < 4; ++c) values[k][c] = value(k, tet[c]);
@@ -391,7 +382,7 @@ TriangleMesh extract_isosurface(const SparseField& field, double iso, const Stag
     std::vector<EdgeTriangle> triangles;
     const std::vector<std::int64_t> cells = chunk_cells(c);
     CornerReader corners(lookup, grid, cells.empty() ? 0 : cells.front());
-    CellParts cell_parts{lookup.parts, field.crease_parts, {}};
+    CellParts cell_parts{lookup.parts, {}};
     std::vector<std::int64_t> owned;  // the names from the cube's corner 0
     for (std::int64_t cell : cells) {
       triangles.clear();
@@ -447,7 +438,7 @@ TriangleMesh extract_isosurface(const SparseField& field, double iso, const Stag
     const std::int64_t first_cell = surface_cells[c].empty() ? 0 : surface_cells[c].front();
     CornerReader corners(lookup, grid, first_cell);
     NameReader vertices(names, grid, first_cell);
-    CellParts cell_parts{lookup.parts, field.crease_parts, {}};
+    CellParts cell_parts{lookup.parts, {}};
     std::size_t i = first_triangle[c];
     for (std::int64_t cell : surface_cells[c]) {
       triangles.clear();

@@ -23,12 +23,10 @@ struct SparseField {
   // flared by up to 0.1 mm where it met the shell's faces: circularity 0.956 -> 0.991 on a sphere).
   std::span<const std::span<const double>> parts = {};
   // With parts: vertices on their creases too (tet_creases.hpp), at most kMaxTetParts parts. Without, the
-  // triangles cut across a crease as a chamfer up to half a cell deep.
+  // triangles cut across a crease as a chamfer up to half a cell deep. A crease point takes each part as
+  // affine in a tetrahedron, also where another part is outside: each part must go on smoothly there (the
+  // shell's slab past its trim line, shell.cpp).
   bool sharp_creases = true;
-  // The parts whose creases get vertices (bit k: part k), on triangles whose corners every other part
-  // holds inside: a part whose values mean nothing beyond another (a distance past a trim line) is left
-  // out where that other cuts it.
-  unsigned crease_parts = ~0u;
 };
 
 // Requires background > iso (the solid is bounded). The result is closed and 2-manifold.

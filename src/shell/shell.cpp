@@ -19,9 +19,10 @@ constexpr int kTopBlock = 64;  // side of the blocks the scan starts from (one t
 // within its diagonal, sqrt(3) cells, of each other and the distance is 1-Lipschitz (a little more
 // than sqrt(3) against rounding).
 constexpr double kReachCells = 1.7325;
-// The shell grid's extent beyond the slab: the reach and spare cells, and half a cell more so that the
-// wall's faces fall midway between grid planes where the surface touches its box (see sample_shell).
-constexpr double kMarginCells = 4.5;
+// The shell grid's extent beyond the slab: the reach and spare cells, and a quarter cell more so that the
+// wall's faces and the box's planes fall between grid planes where the surface touches its box (see
+// sample_shell).
+constexpr double kMarginCells = 4.25;
 
 // Beyond the trim line's reach: no trim (a part of the wall that is always inside).
 constexpr double kNoTrim = -1e30;
@@ -58,16 +59,16 @@ ShellSamples sample_shell(const Surface& surface, const NarrowBand& band, std::s
   const double reach = std::abs(center_offset) + 0.5 * t + kReachCells * h;  // in unsigned distance
 
   // A grid of spacing h around the surface's box, spare cells beyond the reach on every side. Where the
-  // surface touches the lower side of its box (a flat sheet's plane, a sphere's pole) the faces of the
-  // wall lie at box.min - |c| - t/2 plus multiples of t: with a whole number of cells in the margin they
-  // would lie on grid planes, where F is 0 at grid points (a point on the surface counts as outside) and
-  // the isosurface's crossings, kept kSnap = 0.05 of an edge from a grid point, move each face by 0.05 h
-  // into the solid, or out of it when rounding makes F slightly negative: a 2 mm wall at h = t/3 measured
-  // 1.933 mm on a flat sheet and at a sphere's poles, or 2 mm displaced by 0.033 mm. Half a cell more
-  // puts those faces midway between grid planes: there, and wherever t is a whole number of cells (h =
-  // t/3 when refined), both faces of a flat wall cross their edges at the same parameter, so the clamp
-  // moves them alike and keeps the thickness. (On the band's grid, used as it is, the faces lie on grid
-  // planes only if the surface does and t/2 is a whole number of cells.)
+  // surface touches its box (a flat sheet's plane, a sphere's pole, a sleeve's cut end), the wall's faces
+  // lie at box.min - |c| - t/2 plus multiples of t, and a trim line's end face at box.min itself. On a
+  // grid plane F is 0 at grid points (a point on the surface counts as outside): the isosurface's
+  // crossings, kept kSnap = 0.05 of an edge from a grid point, move such a face by 0.05 h (a 2 mm wall
+  // at h = t/3 measured 1.933 mm on a flat sheet), and where an end face meets the wall's faces no crease
+  // point can be made (isosurface.hpp), so that edge stays chamfered (up to 0.4 mm on a 2.5 mm sleeve
+  // whose ends lay on grid planes with half a cell here). A quarter cell puts the faces a quarter cell
+  // from the grid planes, and the box's own planes, |c| + t/2 = 1.5 h or 3 h further at h = t/3 (the
+  // refined spacing), a quarter or three quarters: all cross their edges well inside the clamp. (On the
+  // band's grid, used as it is, that holds only by chance.)
   const Box box = surface.bounds();
   const Vec3 margin = Vec3::Constant(std::abs(center_offset) + 0.5 * t + kMarginCells * h);
   const bool exact = surface.closest_point_is_exact();
@@ -133,9 +134,14 @@ ShellSamples sample_shell(const Surface& surface, const NarrowBand& band, std::s
     if (signed_needed && options.side) d = std::copysign(std::abs(d), options.side(x, p));
     bool complete = true;
     const double pattern = interpolate_band(band, phi, p, &complete);
-    const double slab = std::abs(d - center_offset) - 0.5 * t;
     double beyond_trim = kNoTrim;
     if (trim) beyond_trim = trim->beyond(x).value_or(kNoTrim);
+    // Past the trim line the closest point is on the boundary, and |x - cp| would round the slab into a
+    // cap around it. Its part across the line, the distance to the surface's tangent plane there, goes
+    // on as the slab does behind it, so the crease where the end face meets the wall's faces is where
+    // both parts' values say (the isosurface's crease points).
+    if (beyond_trim > 0.0) d = std::copysign(std::sqrt(std::max(0.0, d * d - beyond_trim * beyond_trim)), d);
+    const double slab = std::abs(d - center_offset) - 0.5 * t;
     samples.push_back({c, slab, beyond_trim, pattern, !complete});
     return 0.0;  // within reach
   };
@@ -211,12 +217,7 @@ TriangleMesh shell_mesh(const ShellSamples& samples, double iso, const StageProg
   // meshed from the parts (isosurface.hpp).
   std::vector<std::span<const double>> parts{samples.wall, pores};
   SparseField field{&samples.grid, samples.points, values, samples.grid.h()};
-  if (!samples.trim.empty()) {
-    parts = {samples.slab, samples.trim, pores};
-    // Past the trim line the slab's distance is to the boundary, not the surface: its creases with the
-    // pores get vertices only inside the line, and the end faces' edges none.
-    field.crease_parts = 0b101;
-  }
+  if (!samples.trim.empty()) parts = {samples.slab, samples.trim, pores};
   field.parts = parts;
   field.sharp_creases = sharp_creases;
   return extract_isosurface(field, 0.0, progress);

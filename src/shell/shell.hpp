@@ -58,8 +58,9 @@ struct ShellSamples {
   Grid grid{Vec3::Zero(), 1.0, {3, 3, 3}};
   std::vector<Coord> points;  // grid points within t/2 + sqrt(3) cells of the wall's middle, by key
   std::vector<double> wall;   // |d - c| - t/2: negative inside the wall slab (and behind the trim line)
-  // With a trim line: the wall's two parts, the slab |d - c| - t/2 and the distance beyond the trim
-  // line (very negative far from it); wall is their max. Empty without one.
+  // With a trim line: the wall's two parts, the slab |d - c| - t/2 (past the line, d the distance to the
+  // surface's tangent plane at the boundary) and the distance beyond the trim line (very negative far
+  // from it); wall is their max. Empty without one.
   std::vector<double> slab, trim;
   std::vector<double> pattern;  // phi_ext
   double pattern_length = 0.0;

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/error.hpp"
+#include "shell/trim_line.hpp"
 
 namespace poreshell {
 
@@ -27,6 +28,12 @@ std::vector<WallProbe> wall_probes(const PlacedSurface& placed, const NarrowBand
   const std::size_t count = 256, stride = std::max<std::size_t>(1, band.size() / (4 * count));
   const double h = band.grid().h();
   const double below = 0.5 * (iso + *std::min_element(phi.begin(), phi.end()));
+  // Near an open boundary the wall ends in the trim line's flat face: a probe there would cross that
+  // face or the edge where it meets the wall's, not the wall (a probe on the face's plane measured 1.09
+  // mm on a 2.5 mm sleeve). Probes keep half a wall and a cell behind the line.
+  const double clearance = 0.5 * wall_mm / placed.mm_per_grid() + h;
+  std::optional<TrimLine> trim;
+  if (placed.mesh && placed.input.boundary_edges > 0) trim.emplace(*placed.mesh, clearance);
   for (std::size_t v = 0; v < band.size() && probes.size() < count; v += stride) {
     if (!(phi[v] < below)) continue;
     const Vec3 x = band.grid().position(band.voxels()[v]);
@@ -37,6 +44,8 @@ std::vector<WallProbe> wall_probes(const PlacedSurface& placed, const NarrowBand
     const std::optional<Vec3> mirror =
         closest_point_at(*placed.surface, 2.0 * *cp - x, h, ClosestPointRule::exact);
     if (!mirror || (*mirror - *cp).norm() > 0.25 * h) continue;
+    if (trim)
+      if (const std::optional<double> beyond = trim->beyond(*cp); beyond && *beyond > -clearance) continue;
     Vec3 n = (x - *cp).normalized();
     if (offset != WallOffset::centered) {
       const double outside = side ? side(x, *cp) : placed.surface->distance(x);
