@@ -58,14 +58,14 @@ struct FieldLookup {
   double background = 1.0;
   std::span<const std::span<const double>> parts;  // SparseField's, in key order (empty: none)
 
-  double at(std::int64_t key) const {
-    const auto it = std::lower_bound(keys.begin(), keys.end(), key);
-    return it != keys.end() && *it == key ? values[it - keys.begin()] : background;
-  }
   std::optional<std::size_t> position(std::int64_t key) const {
     const auto it = std::lower_bound(keys.begin(), keys.end(), key);
     if (it == keys.end() || *it != key) return std::nullopt;
     return static_cast<std::size_t>(it - keys.begin());
+  }
+  double at(std::int64_t key) const {
+    const std::optional<std::size_t> p = position(key);
+    return p ? values[*p] : background;
   }
 };
 

@@ -41,6 +41,9 @@ struct PlacedSurface {
   int resolution = 0;                // grid points along the longest side
   std::optional<TriangleMesh> mesh;  // a mesh input in grid coordinates: the shell's inside/outside test
 
+  // The mesh input where it has an open boundary (where the wall ends at a trim line), else null.
+  const TriangleMesh* open_mesh() const { return mesh && input.boundary_edges > 0 ? &*mesh : nullptr; }
+
   // Millimetres per grid unit, and points from the grid's frame to millimetres and back.
   double mm_per_grid() const { return input.millimetres_per_unit / input.scale; }
   Vec3 to_mm(const Vec3& x) const {

@@ -93,7 +93,7 @@ ShellSamples sample_printable_shell(const Options& c, const PlacedSurface& place
   options.offset = c.offset;
   options.pattern_length = 4.0 * std::sqrt(2.0) * result.model.epsilon;  // see shell.hpp
   options.side = side;
-  if (placed.mesh && placed.input.boundary_edges > 0) options.open_mesh = &*placed.mesh;
+  options.open_mesh = placed.open_mesh();
   options.progress = progress;
   ShellSamples samples = sample_shell(*placed.surface, band, phi, options);
   SolidSummary& s = result.solid;

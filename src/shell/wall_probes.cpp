@@ -33,7 +33,7 @@ std::vector<WallProbe> wall_probes(const PlacedSurface& placed, const NarrowBand
   // mm on a 2.5 mm sleeve). Probes keep half a wall and a cell behind the line.
   const double clearance = 0.5 * wall_mm / placed.mm_per_grid() + h;
   std::optional<TrimLine> trim;
-  if (placed.mesh && placed.input.boundary_edges > 0) trim.emplace(*placed.mesh, clearance);
+  if (const TriangleMesh* open = placed.open_mesh()) trim.emplace(*open, clearance);
   for (std::size_t v = 0; v < band.size() && probes.size() < count; v += stride) {
     if (!(phi[v] < below)) continue;
     const Vec3 x = band.grid().position(band.voxels()[v]);
