@@ -151,9 +151,14 @@ void print_summary(const poreshell::Options& c, const poreshell::Report& r,
                      ? fmt::format(", {} of them in the wall without pores too", m.parts.removed_wall_voids)
                      : "");
     if (m.parts.parts > 1) fmt::print("; {} separate parts", m.parts.parts);
-    if (m.wall.probes > 0)
-      fmt::print("; wall {:.4g} mm ({:.4g}-{:.4g}, {} probes)", m.wall.median, m.wall.min, m.wall.max,
-                 m.wall.probes);
+    if (m.wall.probes > 0) {
+      fmt::print("; wall {:.4g} mm ({:.4g}-{:.4g} over 90% of {} probes", m.wall.median, m.wall.low,
+                 m.wall.high, m.wall.probes);
+      if (m.wall.merged > 0)
+        fmt::print(", {} up to {:.4g} mm where the part is thinner than two walls and solid", m.wall.merged,
+                   m.wall.max);
+      fmt::print(")");
+    }
     fmt::print("\n");
     if (i < outputs.size() && !outputs[i].holes.empty() && !r.preview) {
       double circularity = 0.0, diameter = 0.0, least_diameter = 1e300, least_axis_ratio = 1.0;

@@ -80,6 +80,16 @@
     return dd;
   }
 
+  // The 5th to 95th percentiles, and apart from them the probes that crossed a part thinner than two
+  // walls (solid there): a minimum to maximum range would read as an error on an ear or a finger.
+  function wallSpread(wall) {
+    const low = finite(wall.measured_p5_mm) ? wall.measured_p5_mm : wall.measured_min_mm;
+    const high = finite(wall.measured_p95_mm) ? wall.measured_p95_mm : wall.measured_max_mm;
+    let spread = fmt(low, 2) + '–' + fmt(high, 2) + ' (90%)';
+    if (wall.merged_probes > 0) spread += '; solid up to ' + mm(wall.measured_max_mm) + ' where thinner than two walls';
+    return spread;
+  }
+
   function fillPanel() {
     const req = document.getElementById('request');
     const wall = meshReport.wall || {};
@@ -107,7 +117,7 @@
     if (finite(figures.porosity)) row(m, 'Porosity', pct(figures.porosity));
     // A preview has no solid: no wall, triangle count, volume or mass to show (its report holds zeros).
     if (!preview && finite(wall.measured_median_mm))
-      row(m, 'Wall', mm(wall.measured_median_mm), fmt(wall.measured_min_mm, 2) + '–' + fmt(wall.measured_max_mm, 2));
+      row(m, 'Wall', mm(wall.measured_median_mm), wallSpread(wall));
     if (!preview && finite(meshReport.triangles)) row(m, 'Triangles', meshReport.triangles.toLocaleString('en'));
     if (preview) {
       document.getElementById('print').outerHTML =

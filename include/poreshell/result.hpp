@@ -50,7 +50,9 @@ struct ReductionReport {
 
 struct WallReport {
   double median = 0.0, min = 0.0, max = 0.0;  // mm, across the written solid's wall
+  double low = 0.0, high = 0.0;               // mm, 5th and 95th percentiles of the probes
   std::int64_t probes = 0;
+  std::int64_t merged = 0;  // probes over 1.5 medians: a part thinner than two walls, filled solid
 };
 
 // One output: the solid at one pore level.

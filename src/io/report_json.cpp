@@ -58,7 +58,10 @@ json level_json(const LevelReport& m, const Report& r) {
             {"measured_median_mm", m.wall.median},
             {"measured_min_mm", m.wall.min},
             {"measured_max_mm", m.wall.max},
-            {"probes", m.wall.probes}}}};
+            {"measured_p5_mm", m.wall.low},
+            {"measured_p95_mm", m.wall.high},
+            {"probes", m.wall.probes},
+            {"merged_probes", m.wall.merged}}}};
 }
 
 // Every option by its API name (the Python keywords; the CLI's flags with - for _), so that a report

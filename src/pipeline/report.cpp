@@ -19,7 +19,13 @@ LevelReport level_report(const MeshOutput& m) {
   if (m.reduction)
     l.reduction = ReductionReport{m.reduction->triangles_before, m.reduction->triangles_after,
                                   m.reduction->max_distance, m.reduction->reached_target};
-  l.wall = {m.wall.median, m.wall.min, m.wall.max, static_cast<std::int64_t>(m.wall.probes)};
+  l.wall = {m.wall.median,
+            m.wall.min,
+            m.wall.max,
+            m.wall.low,
+            m.wall.high,
+            static_cast<std::int64_t>(m.wall.probes),
+            static_cast<std::int64_t>(m.wall.merged)};
   l.parts = {m.topology.components, m.parts.removed_fragments, m.parts.removed_voids,
              m.parts.removed_wall_voids, m.parts.removed_volume};
   l.spots_at_iso = m.spots_at_iso;

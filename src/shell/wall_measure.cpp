@@ -141,9 +141,16 @@ WallMeasurement measure_wall(const TriangleMesh& solid, std::span<const WallProb
   if (thickness.empty()) return m;
   std::sort(thickness.begin(), thickness.end());
   m.probes = thickness.size();
+  const auto percentile = [&](double q) {
+    return thickness[static_cast<std::size_t>(q * static_cast<double>(thickness.size() - 1) + 0.5)];
+  };
   m.median = thickness[thickness.size() / 2];
   m.min = thickness.front();
   m.max = thickness.back();
+  m.low = percentile(0.05);
+  m.high = percentile(0.95);
+  m.merged = static_cast<std::size_t>(
+      thickness.end() - std::upper_bound(thickness.begin(), thickness.end(), kMergedWall * m.median));
   return m;
 }
 

@@ -430,5 +430,11 @@ TEST_F(Cli, HoleSizeRequestsAreCheckedAndReported) {
   EXPECT_NEAR(report["model"]["h_mm"].get<double>(),
               report["holes"]["planned"]["voxel_size_mm"].get<double>(),
               0.02 * report["model"]["h_mm"].get<double>());
-  EXPECT_NEAR(report["mesh"]["wall"]["measured_median_mm"].get<double>(), 1.0, 0.1);
+  const nlohmann::json& wall = report["mesh"]["wall"];
+  EXPECT_NEAR(wall["measured_median_mm"].get<double>(), 1.0, 0.1);
+  // A sphere has no part thinner than two walls: every probe within the percentiles' few hundredths.
+  EXPECT_LE(wall["measured_p5_mm"].get<double>(), wall["measured_median_mm"].get<double>());
+  EXPECT_GE(wall["measured_p95_mm"].get<double>(), wall["measured_median_mm"].get<double>());
+  EXPECT_LT(wall["measured_p95_mm"].get<double>() - wall["measured_p5_mm"].get<double>(), 0.1);
+  EXPECT_EQ(wall["merged_probes"].get<int>(), 0);
 }

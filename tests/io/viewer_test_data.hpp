@@ -102,7 +102,11 @@ inline ViewerData viewer_test_data(int holes = 40, bool preview = false) {
          {{"requested_mm", 2.0},
           {"measured_median_mm", 2.01},
           {"measured_min_mm", 1.95},
-          {"measured_max_mm", 2.08}}},
+          {"measured_max_mm", 6.08},
+          {"measured_p5_mm", 1.97},
+          {"measured_p95_mm", 2.04},
+          {"probes", 256},
+          {"merged_probes", 3}}},
         {"outputs", {{{"path", "out/sphere.stl"}}, {{"path", "out/sphere.3mf"}}}}}}};
   if (preview) {
     data.report["preview"] = true;

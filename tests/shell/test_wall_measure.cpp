@@ -1,5 +1,6 @@
 // The wall measurement on a written mesh: a caliper across a hollow sphere reads its wall, geometry
-// beyond the probes' reach changes no reading, and geometry within it does.
+// beyond the probes' reach changes no reading, and geometry within it does; probes through solid
+// (where a part thinner than two walls filled up) are counted apart and leave the percentiles alone.
 
 #include <gtest/gtest.h>
 
@@ -73,6 +74,27 @@ TEST(WallMeasure, GeometryBeyondReachChangesNothing) {
   // Within reach it does count: a sheet inside the wall, 0.5 above the probes, is what a caliper meets.
   add_sphere(shell, Vec3::Zero(), 11.5, true);
   EXPECT_NEAR(measure_wall(shell, probes, 3.0).median, 1.5, 0.05);
+}
+
+// Two probes of 42 cross a solid ball of diameter 6 (3 walls): the maximum and the merged count show
+// them, the 5th to 95th percentiles do not.
+TEST(WallMeasure, CountsProbesThroughSolidApart) {
+  TriangleMesh shell;
+  add_sphere(shell, Vec3::Zero(), 12.0, false);
+  add_sphere(shell, Vec3::Zero(), 10.0, true);
+  const Vec3 ball(40, 0, 0);
+  add_sphere(shell, ball, 3.0, false);
+  auto probes = radial_probes(Vec3::Zero(), 11.0);
+  probes.push_back({ball, Vec3(0.6, 0.8, 0)});
+  probes.push_back({ball, Vec3(0, 0.6, 0.8)});
+  const WallMeasurement m = measure_wall(shell, probes, 8.0);
+  ASSERT_EQ(m.probes, 42u);
+  EXPECT_NEAR(m.median, 2.0, 0.05);
+  EXPECT_EQ(m.merged, 2u);
+  EXPECT_NEAR(m.max, 6.0, 0.05);
+  EXPECT_GT(m.low, 1.9);
+  EXPECT_LT(m.high, 2.1);
+  EXPECT_LE(m.min, m.low);
 }
 
 }  // namespace

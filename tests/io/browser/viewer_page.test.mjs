@@ -209,6 +209,13 @@ try {
         for (const label of ['Wall', 'Triangles'])
           expect(measured.includes(label), `the panel shows no measured ${label}`);
         expect(request.includes('Wall'), 'the request shows no wall');
+        // The percentiles, and the probes through solid apart from them (the test data has 3, up to 6.08).
+        const wall = await page.$$eval('#measured dt', (dts) => {
+          const dt = dts.find((d) => d.textContent === 'Wall');
+          return dt ? dt.nextElementSibling.textContent : '';
+        });
+        expect(wall.includes('1.97–2.04') && wall.includes('6.08 mm') && wall.includes('thinner than two walls'),
+               'the wall row shows no percentiles and merged probes: ' + wall);
         expect(/\d cm³/.test(volume), 'the panel shows no volume: ' + volume);
       }
     } else {
