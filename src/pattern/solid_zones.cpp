@@ -88,20 +88,27 @@ double box_distance(const Vec3& x, const SolidBox& b) {
 
 std::vector<double> solid_zone_weight(const NarrowBand& band, std::span<const Segment> boundary, double rim,
                                       std::span<const SolidSphere> keep_out, double ramp,
-                                      std::span<const SolidBox> boxes) {
+                                      std::span<const SolidBox> boxes, RampSide rim_side) {
   std::vector<double> weight(band.size(), 0.0);
-  const double reach = rim + ramp;
+  const double rim_ramp_outside = rim_side == RampSide::outside ? ramp : 0.0;
   const bool rims = rim > 0.0 && !boundary.empty();
+  const double reach = rim + rim_ramp_outside;
   const SegmentBuckets buckets(rims ? boundary : std::span<const Segment>{}, std::max(reach, 1e-12));
-  auto ramp_weight = [&](double inside_by) {  // inside_by >= 0: in the zone; -ramp: at its outer edge
-    return ramp > 0.0 ? std::clamp(1.0 + inside_by / ramp, 0.0, 1.0) : (inside_by >= 0.0 ? 1.0 : 0.0);
+  // inside_by: how far inside the zone's edge (negative outside); the weight is 0 at `zero`, 1 at `one`.
+  const auto ramp_weight = [](double inside_by, double zero, double one) {
+    return one > zero ? std::clamp((inside_by - zero) / (one - zero), 0.0, 1.0)
+                      : (inside_by >= 0.0 ? 1.0 : 0.0);
   };
+  // An inside ramp ends at the rim's full width where the rim is narrower than the ramp.
+  const double rim_zero = -rim_ramp_outside,
+               rim_one = rim_side == RampSide::outside ? 0.0 : std::min(ramp, rim);
   tbb::parallel_for(std::size_t{0}, band.size(), [&](std::size_t v) {
     const Vec3 x = band.grid().position(band.voxels()[v]);
     double w = 0.0;
-    if (rims) w = ramp_weight(rim - buckets.distance(x, 2.0 * reach));
-    for (const SolidSphere& s : keep_out) w = std::max(w, ramp_weight(s.radius - (x - s.center).norm()));
-    for (const SolidBox& b : boxes) w = std::max(w, ramp_weight(-box_distance(x, b)));
+    if (rims) w = ramp_weight(rim - buckets.distance(x, 2.0 * reach), rim_zero, rim_one);
+    for (const SolidSphere& s : keep_out)
+      w = std::max(w, ramp_weight(s.radius - (x - s.center).norm(), -ramp, 0.0));
+    for (const SolidBox& b : boxes) w = std::max(w, ramp_weight(-box_distance(x, b), -ramp, 0.0));
     weight[v] = w;
   });
   return weight;
@@ -130,10 +137,10 @@ std::vector<double> solid_zones(const Options& c, const PlacedSurface& placed, c
       placed.mesh ? boundary_segments(*placed.mesh) : std::vector<Segment>{};
   // The ramp lets the pattern meet the zone over about one interface width.
   std::vector<double> weight =
-      solid_zone_weight(band, boundary, c.rim * grid_per_mm, spheres, 2.0 * epsilon, boxes);
+      solid_zone_weight(band, boundary, c.rim * grid_per_mm, spheres, 2.0 * epsilon, boxes, RampSide::inside);
   if (creases) {
-    const std::vector<double> edge =
-        solid_zone_weight(band, features.creases, features.crease_width, {}, 2.0 * epsilon);
+    const std::vector<double> edge = solid_zone_weight(band, features.creases, features.crease_width, {},
+                                                       2.0 * epsilon, {}, RampSide::outside);
     for (std::size_t v = 0; v < band.size(); ++v) weight[v] = std::max(weight[v], edge[v]);
   }
   // Masks and thin marks are 0/1 per vertex, interpolated: solid above 0.75, free below 0.25.

@@ -40,11 +40,22 @@ std::vector<Segment> boundary_segments(const TriangleMesh& mesh);
 std::vector<double> segment_distances(std::span<const Vec3> points, std::span<const Segment> segments,
                                       double reach);
 
-// Per band voxel, 1 within `rim` of a boundary segment or inside a keep-out sphere or box, 0 beyond a
-// further `ramp`, linear between (all lengths in the band's grid units).
+// Which side of a rim's edge its weight falls from 1 to 0. Inside, the pattern may begin where the
+// asked rim ends: with the ramp outside, the nearest holes kept 2.6-3.7 mm more than the asked rim from
+// a sleeve's edge (8 mm holes at 12 mm, rims of 1-10 mm), with it inside 0.5-1.9 mm (docs/printing.md,
+// "Solid zones"); the open edge's own clearance (pattern/layout.hpp) still keeps discs off a narrow one.
+// A crease's zone ramps outside: its width is already the margin a hole keeps from the crease. Keep-out
+// spheres and boxes always ramp outside: inside, a keep-out of a few millimetres held no solid core
+// and a hole covered it.
+enum class RampSide { inside, outside };
+
+// Per band voxel, the weight of the zones within `rim` of a boundary segment (ramping on `rim_side` of
+// its edge) and inside keep-out spheres and boxes (1 inside, 0 beyond a further `ramp`); linear across
+// the ramps; all lengths in the band's grid units.
 std::vector<double> solid_zone_weight(const NarrowBand& band, std::span<const Segment> boundary, double rim,
                                       std::span<const SolidSphere> keep_out, double ramp,
-                                      std::span<const SolidBox> boxes = {});
+                                      std::span<const SolidBox> boxes = {},
+                                      RampSide rim_side = RampSide::inside);
 
 // phi_bar(x) = phi_bar + (-1 - phi_bar) w(x): the nonlocal term's target, solid where w = 1.
 std::vector<double> mean_concentration_field(std::span<const double> weight, double phi_bar);
