@@ -41,12 +41,12 @@ std::vector<double> segment_distances(std::span<const Vec3> points, std::span<co
                                       double reach);
 
 // Which side of a rim's edge its weight falls from 1 to 0. Inside, the pattern may begin where the
-// asked rim ends: with the ramp outside, the nearest holes kept 2.6-3.7 mm more than the asked rim from
+// asked rim ends: with the ramp outside, the nearest holes kept 2.7-3.9 mm more than the asked rim from
 // a sleeve's edge (8 mm holes at 12 mm, rims of 1-10 mm), with it inside 0.5-1.9 mm (docs/printing.md,
-// "Solid zones"); the open edge's own clearance (pattern/layout.hpp) still keeps discs off a narrow one.
-// A crease's zone ramps outside: its width is already the margin a hole keeps from the crease. Keep-out
-// spheres and boxes always ramp outside: inside, a keep-out of a few millimetres held no solid core
-// and a hole covered it.
+// "The rim asked is the rim made"); the layout's own clearance of open edges still keeps discs off a
+// narrow one. A crease's zone ramps outside: its width is already the margin a hole keeps from the
+// crease. Keep-out spheres and boxes always ramp outside: ramping inside or across their edge, holes
+// reached into them (small spheres, a sphere beside a box), which have no such clearance.
 enum class RampSide { inside, outside };
 
 // Per band voxel, the weight of the zones within `rim` of a boundary segment (ramping on `rim_side` of
