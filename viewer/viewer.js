@@ -136,10 +136,16 @@
       updateMass();
     }
 
+    // Asked, and what the holes left: the nearest hole's edge from the open boundary and from a keep-out.
     const z = document.getElementById('zones');
+    const applied = meshReport.applied || {};
     row(z, 'Rim', data.rim_width_mm > 0 ? mm(data.rim_width_mm, 1) : 'none');
+    if (data.rim_width_mm > 0 && finite(applied.rim_measured_mm)) row(z, 'Rim left', mm(applied.rim_measured_mm, 1));
     row(z, 'Keep-out spheres', String(data.keep_out_spheres.length));
     row(z, 'Keep-out boxes', String(data.keep_out_boxes.length));
+    if (finite(applied.keep_out_clearance_mm))
+      row(z, 'Keep-out clearance', applied.holes_in_keep_outs > 0 ? applied.holes_in_keep_outs + ' holes reach in'
+                                                                   : mm(applied.keep_out_clearance_mm, 1));
 
     const files = document.getElementById('files');
     const paths = (meshReport.outputs || []).map((o) => o.path).filter((p) => p);

@@ -89,6 +89,7 @@ inline ViewerData viewer_test_data(int holes = 40, bool preview = false) {
       {"solid", {{"wall_mm", 2.0}}},
       {"mesh",
        {{"path", "out/sphere.stl"},
+        {"applied", {{"rim_measured_mm", 2.74}, {"keep_out_clearance_mm", 1.83}, {"holes_in_keep_outs", 0}}},
         {"triangles", data.mesh.triangles.size()},
         {"volume", 4.0 / 3.0 * pi * (std::pow(radius + 1.0, 3) - std::pow(radius - 1.0, 3))},
         {"holes",

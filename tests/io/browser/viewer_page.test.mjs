@@ -214,6 +214,10 @@ try {
           const dt = dts.find((d) => d.textContent === 'Wall');
           return dt ? dt.nextElementSibling.textContent : '';
         });
+        // The zones as asked and as the holes left them (the test data: rim 2 mm, 2.74 left; 1.83 mm off).
+        const zones = await page.$eval('#zones', (e) => e.textContent);
+        expect(zones.includes('Rim left2.7 mm') && zones.includes('Keep-out clearance1.8 mm'),
+               'the zones show no measured rim or keep-out clearance: ' + zones);
         expect(wall.includes('1.97–2.04') && wall.includes('6.08 mm') && wall.includes('thinner than two walls'),
                'the wall row shows no percentiles and merged probes: ' + wall);
         expect(/\d cm³/.test(volume), 'the panel shows no volume: ' + volume);
