@@ -90,18 +90,19 @@ std::vector<double> solid_zone_weight(const NarrowBand& band, std::span<const Se
                                       std::span<const SolidSphere> keep_out, double ramp,
                                       std::span<const SolidBox> boxes, RampSide rim_side) {
   std::vector<double> weight(band.size(), 0.0);
-  const double rim_ramp_outside = rim_side == RampSide::outside ? ramp : 0.0;
+  // Where the rim's weight is 0 and where 1, as depths inside its edge; an inside ramp ends at the rim's
+  // full width where the rim is narrower than the ramp.
+  const double rim_zero = rim_side == RampSide::outside ? -ramp : 0.0;
+  const double rim_one = rim_side == RampSide::outside ? 0.0 : std::min(ramp, rim);
   const bool rims = rim > 0.0 && !boundary.empty();
-  const double reach = rim + rim_ramp_outside;
+  const double reach = rim - rim_zero;
   const SegmentBuckets buckets(rims ? boundary : std::span<const Segment>{}, std::max(reach, 1e-12));
   // inside_by: how far inside the zone's edge (negative outside); the weight is 0 at `zero`, 1 at `one`.
+  // Written from `one` so that a ramp outside (one = 0) rounds as it did before rims could ramp inside.
   const auto ramp_weight = [](double inside_by, double zero, double one) {
-    return one > zero ? std::clamp((inside_by - zero) / (one - zero), 0.0, 1.0)
+    return one > zero ? std::clamp(1.0 + (inside_by - one) / (one - zero), 0.0, 1.0)
                       : (inside_by >= 0.0 ? 1.0 : 0.0);
   };
-  // An inside ramp ends at the rim's full width where the rim is narrower than the ramp.
-  const double rim_zero = -rim_ramp_outside,
-               rim_one = rim_side == RampSide::outside ? 0.0 : std::min(ramp, rim);
   tbb::parallel_for(std::size_t{0}, band.size(), [&](std::size_t v) {
     const Vec3 x = band.grid().position(band.voxels()[v]);
     double w = 0.0;
