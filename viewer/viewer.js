@@ -83,9 +83,7 @@
   // The 5th to 95th percentiles, and apart from them the probes that crossed a part thinner than two
   // walls (solid there): a minimum to maximum range would read as an error on an ear or a finger.
   function wallSpread(wall) {
-    const low = finite(wall.measured_p5_mm) ? wall.measured_p5_mm : wall.measured_min_mm;
-    const high = finite(wall.measured_p95_mm) ? wall.measured_p95_mm : wall.measured_max_mm;
-    let spread = fmt(low, 2) + '–' + fmt(high, 2) + ' (90%)';
+    let spread = fmt(wall.measured_p5_mm, 2) + '–' + fmt(wall.measured_p95_mm, 2) + ' (90%)';
     if (wall.merged_probes > 0) spread += '; solid up to ' + mm(wall.measured_max_mm) + ' where thinner than two walls';
     return spread;
   }
