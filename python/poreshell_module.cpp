@@ -17,6 +17,7 @@
 #include <exception>
 #include <functional>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -395,8 +396,19 @@ py::dict holes_dict(const std::vector<poreshell::Hole>& holes) {
 // (the calling, usually main) thread waits with the GIL released, checking for signals every 50 ms:
 // Ctrl-C sets the cancel flag, and the run stops within about half a second. The progress callback
 // takes the GIL from the run's threads. Returns the outputs as arrays and the report as JSON.
+// What the viewer page needs of a run besides its meshes, which live in the numpy arrays (one copy at a
+// time): the C++ Result without its meshes, the Options and the Input (kept alive by `owner`).
+struct ResultBox {
+  poreshell::Result result;
+  poreshell::Options options;
+  const poreshell::Input* input = nullptr;
+  py::object owner;
+};
+
 using Perforate = std::function<poreshell::Result(const poreshell::RunControl&)>;
-py::tuple run_and_collect(const Perforate& perforate, const py::object& progress, double max_seconds) {
+py::tuple run_and_collect(const Perforate& perforate, const py::object& progress, double max_seconds,
+                          const poreshell::Options& options, const poreshell::Input* input,
+                          py::object owner) {
   RunState state;
   state.progress = progress;
   poreshell::RunControl control;
@@ -467,34 +479,64 @@ py::tuple run_and_collect(const Perforate& perforate, const py::object& progress
     out.mesh = {};  // one copy at a time
     outputs.append(level);
   }
-  return py::make_tuple(outputs, report);
+  auto box = std::make_unique<ResultBox>();
+  box->result = std::move(result);
+  box->options = options;
+  box->input = input;
+  box->owner = std::move(owner);
+  return py::make_tuple(outputs, report, std::move(box));
 }
 
-py::tuple run(const InputBox& input, const py::dict& kwargs, const py::object& progress, double max_seconds) {
+// The viewer page of output `output` (its mesh given back from the arrays) at `html`, and its picture at
+// `png` when not empty (then `html` is a temporary page the caller removes).
+void save_view(ResultBox& box, std::size_t output, const Doubles& vertices, const Ints& faces,
+               const std::filesystem::path& html, const std::filesystem::path& png) {
+  if (output >= box.result.outputs.size())
+    throw py::value_error("the result has no output " + std::to_string(output));
+  poreshell::Mesh& mesh = box.result.outputs[output].mesh;
+  mesh = {to_points(vertices), to_triangles(faces)};
+  poreshell::ViewOptions view;
+  view.output = output;
+  try {
+    py::gil_scoped_release release;
+    poreshell::save_html(html, box.result, box.options, box.input, view);
+    if (!png.empty()) poreshell::save_png(html, png);
+  } catch (...) {
+    mesh = {};
+    throw;
+  }
+  mesh = {};
+}
+
+py::tuple run(const py::object& input_object, const py::dict& kwargs, const py::object& progress,
+              double max_seconds) {
+  const InputBox& input = input_object.cast<const InputBox&>();
   const poreshell::Options options = to_options(kwargs);
   return run_and_collect(
       [&](const poreshell::RunControl& control) {
         return poreshell::perforate(input.input, options, control);
       },
-      progress, max_seconds);
+      progress, max_seconds, options, &input.input, input_object);
 }
 
 // An input placed with its options once (poreshell::prepare), for estimate_prepared and run_prepared.
 // The input it points to is kept alive by the binding (py::keep_alive).
 struct PreparedBox {
   poreshell::Prepared prepared;
+  poreshell::Options options;  // for the viewer page
 };
 
 PreparedBox prepare(const InputBox& input, const py::dict& kwargs) {
   const poreshell::Options options = to_options(kwargs, "prepare");
   py::gil_scoped_release release;
-  return PreparedBox{poreshell::prepare(input.input, options)};
+  return PreparedBox{poreshell::prepare(input.input, options), options};
 }
 
-py::tuple run_prepared(const PreparedBox& box, const py::object& progress, double max_seconds) {
+py::tuple run_prepared(const py::object& box_object, const py::object& progress, double max_seconds) {
+  const PreparedBox& box = box_object.cast<const PreparedBox&>();
   return run_and_collect(
       [&](const poreshell::RunControl& control) { return poreshell::perforate(box.prepared, control); },
-      progress, max_seconds);
+      progress, max_seconds, box.options, box.prepared.input, box_object);
 }
 
 py::dict estimate_dict(const poreshell::Estimate& e) {
@@ -549,6 +591,9 @@ PYBIND11_MODULE(_poreshell, m) {
 
   py::class_<InputBox>(m, "Input", "An input of the library: a mesh, a point cloud or a shape.");
   py::class_<PreparedBox>(m, "PreparedInput", "An input placed with its options (poreshell.prepare).");
+  py::class_<ResultBox>(m, "RunResult", "What a Result's viewer page needs besides its meshes.");
+  m.def("save_view", &save_view, py::arg("result"), py::arg("output"), py::arg("vertices"), py::arg("faces"),
+        py::arg("html"), py::arg("png"));
 
   m.def(
       "mesh_input",
