@@ -1,0 +1,66 @@
+"""The extension module poreshell._poreshell, built by CMake (pyproject.toml has the rest).
+
+`pip install .` configures a Release build of the library and the module in a temporary directory and
+builds the module's target only. With PORESHELL_CMAKE_BUILD_DIR set to a configured build directory (the
+tests' and CI's build/), it runs `cmake --build` there instead, which does nothing when the module is
+built, so that making a wheel in CI compiles nothing a second time. Either way the module built is copied
+into the wheel. Offline (no download of setuptools): pip install --no-build-isolation .
+"""
+
+import glob
+import os
+import re
+import shutil
+import subprocess
+import sys
+
+from setuptools import Extension, setup
+from setuptools.command.build_ext import build_ext
+
+ROOT = os.path.dirname(os.path.abspath(__file__))
+
+
+def version():
+    with open(os.path.join(ROOT, "CMakeLists.txt"), encoding="utf-8") as f:
+        return re.search(r"project\(poreshell VERSION ([0-9.]+)", f.read()).group(1)
+
+
+class CMakeBuild(build_ext):
+    def build_extension(self, ext):
+        build_dir = os.environ.get("PORESHELL_CMAKE_BUILD_DIR")
+        jobs = ["-j", str(self.parallel)] if self.parallel else []
+        if build_dir:
+            build_dir = os.path.abspath(build_dir)
+            if not os.path.isfile(os.path.join(build_dir, "CMakeCache.txt")):
+                sys.exit("PORESHELL_CMAKE_BUILD_DIR=%s is not a configured CMake build directory" % build_dir)
+        else:
+            build_dir = os.path.abspath(os.path.join(self.build_temp, "cmake"))
+            generator = ["-G", "Ninja"] if shutil.which("ninja") else []
+            subprocess.run(
+                ["cmake", "-S", ROOT, "-B", build_dir, *generator, "-DCMAKE_BUILD_TYPE=Release",
+                 "-DPORESHELL_BUILD_TESTS=OFF", "-DPORESHELL_PYTHON=ON", "-DPython_EXECUTABLE=" + sys.executable],
+                check=True,
+            )
+        subprocess.run(["cmake", "--build", build_dir, "--target", "_poreshell", *jobs], check=True)
+        built = glob.glob(os.path.join(build_dir, "python", "poreshell", "_poreshell*.so"))
+        if len(built) != 1:
+            sys.exit("the CMake build in %s made no single poreshell/_poreshell*.so (the Python package is "
+                     "not built with PORESHELL_SANITIZE or without pybind11: see its configure log)" % build_dir)
+        target = self.get_ext_fullpath(ext.name)
+        os.makedirs(os.path.dirname(target), exist_ok=True)
+        # The name CMake gave carries the interpreter's suffix, which must be the one setuptools expects.
+        if os.path.basename(built[0]) != os.path.basename(target):
+            sys.exit("the module %s was built for another Python than %s (%s): configure the build "
+                     "with -DPython_EXECUTABLE=%s" % (built[0], sys.executable, os.path.basename(target),
+                                                       sys.executable))
+        shutil.copyfile(built[0], target)
+
+
+# Not build/ (where the project's CMake build usually lives) nor python/ (the sources).
+os.makedirs(os.path.join(ROOT, "build-python"), exist_ok=True)
+setup(
+    version=version(),
+    ext_modules=[Extension("poreshell._poreshell", sources=[])],
+    cmdclass={"build_ext": CMakeBuild},
+    options={"build": {"build_base": "build-python"}, "egg_info": {"egg_base": "build-python"}},
+)
