@@ -1,7 +1,8 @@
 """The extension module poreshell._poreshell, built by CMake (pyproject.toml has the rest).
 
 `pip install .` configures a Release build of the library and the module in a temporary directory and
-builds the module's target only. With PORESHELL_CMAKE_BUILD_DIR set to a configured build directory (the
+builds the module's target only (through ccache where there is one; PORESHELL_CMAKE_ARGS adds
+arguments to that configure step). With PORESHELL_CMAKE_BUILD_DIR set to a configured build directory (the
 tests' and CI's build/), it runs `cmake --build` there instead, which does nothing when the module is
 built, so that making a wheel in CI compiles nothing a second time. Either way the module built is copied
 into the wheel. Offline (no download of setuptools): pip install --no-build-isolation .
@@ -10,6 +11,7 @@ into the wheel. Offline (no download of setuptools): pip install --no-build-isol
 import glob
 import os
 import re
+import shlex
 import shutil
 import subprocess
 import sys
@@ -36,9 +38,13 @@ class CMakeBuild(build_ext):
         else:
             build_dir = os.path.abspath(os.path.join(self.build_temp, "cmake"))
             generator = ["-G", "Ninja"] if shutil.which("ninja") else []
+            # ccache where there is one: a reinstall then compiles nothing that did not change.
+            launcher = ["-DCMAKE_CXX_COMPILER_LAUNCHER=ccache"] if shutil.which("ccache") else []
+            extra = shlex.split(os.environ.get("PORESHELL_CMAKE_ARGS", ""))  # e.g. -DPORESHELL_WERROR=ON
             subprocess.run(
-                ["cmake", "-S", ROOT, "-B", build_dir, *generator, "-DCMAKE_BUILD_TYPE=Release",
-                 "-DPORESHELL_BUILD_TESTS=OFF", "-DPORESHELL_PYTHON=ON", "-DPython_EXECUTABLE=" + sys.executable],
+                ["cmake", "-S", ROOT, "-B", build_dir, *generator, *launcher, "-DCMAKE_BUILD_TYPE=Release",
+                 "-DPORESHELL_BUILD_TESTS=OFF", "-DPORESHELL_PYTHON=ON", "-DPython_EXECUTABLE=" + sys.executable,
+                 *extra],
                 check=True,
             )
         subprocess.run(["cmake", "--build", build_dir, "--target", "_poreshell", *jobs], check=True)

@@ -384,9 +384,10 @@ def perforate(
       seed           seed of the initial random field (same seed, same result)
       threads        worker threads, 0: all cores (results do not depend on it)
       progress       callable(stage, fraction): stage is 'input', 'band', 'solve', 'shell', 'mesh' or
-                     'holes', fraction 0..1 of that stage; called from the run's threads with the GIL
-                     held, at each stage's start and a few times a second while solving. An exception it
-                     raises cancels the run and propagates out of perforate() unchanged.
+                     'holes', in that order (a preview: no 'shell' or 'holes'), fraction 0..1 of that
+                     stage; called from the run's threads with the GIL held, at each stage's start
+                     and a few times a second while solving. An exception it raises cancels the run
+                     and propagates out of perforate() unchanged.
       max_seconds    a time budget: a run still computing after it raises RuntimeError (code
                      'out_of_time'); 0: none
 

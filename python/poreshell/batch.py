@@ -28,6 +28,7 @@ import csv
 import os
 import sys
 import time
+import uuid
 from typing import Any, Dict, List, Optional
 
 __all__ = ["run", "read_manifest", "main", "SUMMARY_FIELDS"]
@@ -154,18 +155,19 @@ def run(
     lines: Dict[int, Dict[str, Any]] = {}
     try:
         with Client(cluster if cluster is not None else scheduler) as client:
-            futures = {
-                client.submit(run_job, job, out, retries=retries, pure=False, key="poreshell-row-%d" % job["row"]):
-                job
-                for job in jobs
-            }
+            futures = {}
+            batch = uuid.uuid4().hex[:8]  # keys unique on a scheduler that other batches share
+            for job in jobs:
+                key = "poreshell-%s-row-%d" % (batch, job["row"])
+                futures[client.submit(run_job, job, out, retries=retries, pure=False, key=key)] = job
             for future in as_completed(futures):
                 job = futures[future]
                 if future.status == "finished":
                     lines[job["row"]] = _summary_line(job, future.result(), "")
                 else:  # failed on its last try: the batch goes on
                     error = future.exception()
-                    lines[job["row"]] = _summary_line(job, None, ("%s: %s" % (type(error).__name__, error)).strip())
+                    message = "%s: %s" % (type(error).__name__, error)
+                    lines[job["row"]] = _summary_line(job, None, message)
                 future.release()
     finally:
         if cluster is not None:

@@ -45,11 +45,11 @@ def write_sphere_obj(path, radius, rings=16, segments=24):
     path.write_text("\n".join(lines) + "\n")
 
 
-# (manifest options, the CLI's flags for them)
+# The good rows' options (hole_diameter, resolution, seed), as manifest cells and as the CLI's flags.
+GOOD_VALUES = [("6", "41", "1"), ("5", "41", "2"), ("7", "45", "3")]
 GOOD = [
-    ({"hole_diameter": "6", "resolution": "41", "seed": "1"}, ["--hole-diameter", "6", "--resolution", "41", "--seed", "1"]),
-    ({"hole_diameter": "5", "resolution": "41", "seed": "2"}, ["--hole-diameter", "5", "--resolution", "41", "--seed", "2"]),
-    ({"hole_diameter": "7", "resolution": "45", "seed": "3"}, ["--hole-diameter", "7", "--resolution", "45", "--seed", "3"]),
+    ({"hole_diameter": d, "resolution": r, "seed": s}, ["--hole-diameter", d, "--resolution", r, "--seed", s])
+    for d, r, s in GOOD_VALUES
 ]
 
 
@@ -121,3 +121,18 @@ def test_a_bad_manifest_stops_before_any_job(tmp_path, capsys):
     assert batch.main([str(tmp_path / "manifest.csv"), "--out", str(tmp_path / "out")]) == 2
     assert "hole_diamter" in capsys.readouterr().err
     assert not (tmp_path / "out").exists()
+
+
+def test_an_existing_scheduler_runs_the_rows(batch_run, tmp_path):
+    """--scheduler: the jobs go to a cluster someone else started (here one in this process)."""
+    from distributed import LocalCluster
+
+    top, _, _ = batch_run
+    (tmp_path / "manifest.csv").write_text(
+        "input,output,hole_diameter,resolution,seed\n%s,ball.stl,6,41,1\n" % (top / "ball.obj")
+    )
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None) as cluster:
+        summary = batch.run(str(tmp_path / "manifest.csv"), str(tmp_path / "out"), scheduler=cluster.scheduler_address)
+    assert [line["status"] for line in summary] == ["ok"]
+    # The first good row's options: the same bytes as that row's mesh.
+    assert (tmp_path / "out" / "ball.stl").read_bytes() == (top / "out" / "1-ball.stl").read_bytes()
