@@ -138,7 +138,13 @@ def run(
     SUMMARY_FIELDS, in row order). `workers`: the local cluster's worker processes (default: the CPU
     count); `scheduler`: an existing scheduler's address instead; `retries`: how often a failed job is
     run again (1: once)."""
-    from distributed import Client, LocalCluster, as_completed
+    try:
+        from distributed import Client, LocalCluster, as_completed
+    except ImportError:
+        raise RuntimeError(
+            "poreshell.batch needs Dask's distributed: apt-get install python3-distributed "
+            "(scripts/install-deps), or pip install 'poreshell[batch]'"
+        ) from None
 
     if workers is not None and scheduler is not None:
         raise ValueError("give `workers` (a local cluster) or `scheduler` (an existing one), not both")
@@ -196,7 +202,7 @@ def main(argv: Optional[List[str]] = None) -> int:
     args = parser.parse_args(argv)
     try:
         summary = run(args.manifest, args.out, workers=args.workers, scheduler=args.scheduler)
-    except (OSError, ValueError) as e:
+    except (OSError, ValueError, RuntimeError) as e:
         print("poreshell.batch: error: %s" % e, file=sys.stderr)
         return 2
     failed = [line for line in summary if line["status"] != "ok"]
