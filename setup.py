@@ -62,11 +62,17 @@ class CMakeBuild(build_ext):
         shutil.copyfile(built[0], target)
 
 
-# Not build/ (where the project's CMake build usually lives) nor python/ (the sources).
-os.makedirs(os.path.join(ROOT, "build-python"), exist_ok=True)
+# setuptools' own files: not in build/ (where the project's CMake build usually lives) nor python/ (the
+# sources); inside the given CMake build directory when there is one, so that the tests leave the source
+# tree as it was.
+if os.environ.get("PORESHELL_CMAKE_BUILD_DIR"):
+    BASE = os.path.join(os.path.abspath(os.environ["PORESHELL_CMAKE_BUILD_DIR"]), "setuptools")
+else:
+    BASE = os.path.join(ROOT, "build-python")
+os.makedirs(BASE, exist_ok=True)
 setup(
     version=version(),
     ext_modules=[Extension("poreshell._poreshell", sources=[])],
     cmdclass={"build_ext": CMakeBuild},
-    options={"build": {"build_base": "build-python"}, "egg_info": {"egg_base": "build-python"}},
+    options={"build": {"build_base": BASE}, "egg_info": {"egg_base": BASE}},
 )
