@@ -1,7 +1,7 @@
 // poreshell._poreshell: the Python binding of the public C++ API (include/poreshell/). The pure-Python
 // part (python/poreshell/__init__.py) checks and converts numpy arguments and documents the API; this
-// file builds the library's Input and Options from them, runs perforate() with the GIL released, and
-// turns the Result into numpy arrays and the JSON report text.
+// file builds the library's Input and (with options.cpp) Options from them, runs perforate() with the GIL
+// released, and turns the Result into numpy arrays and the JSON report text.
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -17,12 +17,14 @@
 #include <exception>
 #include <functional>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "options.hpp"
 #include "poreshell/poreshell.hpp"
 
 namespace py = pybind11;
@@ -127,228 +129,6 @@ py::array_t<std::int32_t> triangles_array(const std::vector<poreshell::Triangle>
   return out;
 }
 
-// --- Options from keyword arguments -------------------------------------------------------------------
-
-[[noreturn]] void bad_value(const std::string& name, const std::string& what, py::handle value) {
-  throw py::value_error("`" + name + "` must be " + what + ", got " + py::repr(value).cast<std::string>());
-}
-
-double to_double(const std::string& name, py::handle value) {
-  if (!py::isinstance<py::float_>(value) && !py::isinstance<py::int_>(value) &&
-      !py::hasattr(value, "__float__"))
-    bad_value(name, "a number", value);
-  if (py::isinstance<py::bool_>(value)) bad_value(name, "a number", value);
-  try {
-    return value.cast<double>();
-  } catch (const py::cast_error&) {
-    bad_value(name, "a number", value);
-  }
-}
-
-template <typename Int>
-Int to_int(const std::string& name, py::handle value) {
-  if (py::isinstance<py::bool_>(value) || py::isinstance<py::float_>(value))
-    bad_value(name, "an integer", value);
-  try {
-    return value.cast<Int>();
-  } catch (const py::cast_error&) {
-    bad_value(name, "an integer in range", value);
-  }
-}
-
-bool to_bool(const std::string& name, py::handle value) {
-  if (!py::isinstance<py::bool_>(value)) bad_value(name, "True or False", value);
-  return value.cast<bool>();
-}
-
-std::string to_string(const std::string& name, py::handle value) {
-  if (!py::isinstance<py::str>(value)) bad_value(name, "a string", value);
-  return value.cast<std::string>();
-}
-
-template <typename Enum>
-Enum to_enum(const std::string& name, py::handle value) {
-  std::string text = to_string(name, value);
-  std::replace(text.begin(), text.end(), '-', '_');
-  if (const std::optional<Enum> e = poreshell::enum_from_name<Enum>(text)) return *e;
-  std::string names;
-  for (const auto& entry : poreshell::enum_names(Enum{}))
-    names += (names.empty() ? "'" : ", '") + std::string(entry.name) + "'";
-  bad_value(name, "one of " + names, value);
-}
-
-std::vector<double> to_numbers(const std::string& name, py::handle value, std::size_t count) {
-  const std::string what = "a sequence of " + std::to_string(count) + " numbers";
-  if (!py::isinstance<py::sequence>(value) || py::isinstance<py::str>(value)) bad_value(name, what, value);
-  const auto seq = py::reinterpret_borrow<py::sequence>(value);
-  if (seq.size() != count) bad_value(name, what, value);
-  std::vector<double> out;
-  for (py::handle item : seq) out.push_back(to_double(name, item));
-  return out;
-}
-
-poreshell::Point to_point(const std::string& name, py::handle value) {
-  const std::vector<double> v = to_numbers(name, value, 3);
-  return {v[0], v[1], v[2]};
-}
-
-// A sequence of `count`-tuples (or an (n, count) array).
-std::vector<std::vector<double>> to_rows(const std::string& name, py::handle value, std::size_t count) {
-  if (!py::isinstance<py::sequence>(value) || py::isinstance<py::str>(value)) {
-    if (py::isinstance<py::array>(value)) return to_rows(name, value.attr("tolist")(), count);
-    bad_value(name, "a sequence of " + std::to_string(count) + "-tuples", value);
-  }
-  std::vector<std::vector<double>> rows;
-  for (py::handle row : py::reinterpret_borrow<py::sequence>(value))
-    rows.push_back(to_numbers(name, row, count));
-  return rows;
-}
-
-poreshell::Grade to_grade(py::handle value) {
-  if (py::isinstance<py::str>(value)) return poreshell::parse_grade(value.cast<std::string>());
-  if (!py::isinstance<py::dict>(value))
-    bad_value("grade", "a spec string such as 'axis:z:4:8' or a dict", value);
-  poreshell::Grade grade;
-  for (const auto& [key_handle, item] : py::reinterpret_borrow<py::dict>(value)) {
-    const std::string key = py::str(key_handle);
-    const std::string name = "grade[" + key + "]";
-    if (key == "kind") {
-      grade.kind = to_enum<poreshell::Grade::Kind>(name, item);
-    } else if (key == "axis") {
-      if (py::isinstance<py::str>(item)) {
-        const std::string axis = to_string(name, item);
-        if (axis != "x" && axis != "y" && axis != "z") bad_value(name, "one of 'x', 'y', 'z'", item);
-        grade.axis = axis[0] - 'x';
-      } else
-        grade.axis = to_int<int>(name, item);
-    } else if (key == "from") {
-      grade.from = to_point(name, item);
-    } else if (key == "to") {
-      grade.to = to_point(name, item);
-    } else if (key == "from_diameter") {
-      grade.from_diameter = to_double(name, item);
-    } else if (key == "to_diameter") {
-      grade.to_diameter = to_double(name, item);
-    } else if (key == "radius") {
-      grade.radius = to_double(name, item);
-    } else if (key == "field") {
-      grade.field = to_string(name, item);
-    } else if (key == "mapped") {
-      grade.mapped = to_bool(name, item);
-    } else {
-      throw py::value_error("`grade` has no key '" + key +
-                            "': use kind, axis, from, to, from_diameter, to_diameter, radius, field, mapped");
-    }
-  }
-  return grade;
-}
-
-using Setter = std::function<void(poreshell::Options&, const std::string&, py::handle)>;
-
-Setter set_double(double poreshell::Options::*field) {
-  return [field](poreshell::Options& o, const std::string& n, py::handle v) { o.*field = to_double(n, v); };
-}
-template <typename Int>
-Setter set_int(Int poreshell::Options::*field) {
-  return [field](poreshell::Options& o, const std::string& n, py::handle v) { o.*field = to_int<Int>(n, v); };
-}
-template <typename Enum>
-Setter set_enum(Enum poreshell::Options::*field) {
-  return
-      [field](poreshell::Options& o, const std::string& n, py::handle v) { o.*field = to_enum<Enum>(n, v); };
-}
-
-// Every field of poreshell::Options, by its API name.
-const std::map<std::string, Setter>& setters() {
-  using O = poreshell::Options;
-  static const std::map<std::string, Setter> table{
-      {"hole_diameter", set_double(&O::hole_diameter)},
-      {"spacing", set_double(&O::spacing)},
-      {"porosity", set_double(&O::porosity)},
-      {"grade", [](O& o, const std::string&, py::handle v) { o.grade = to_grade(v); }},
-      {"resolution", set_int(&O::resolution)},
-      {"voxel_size", set_double(&O::voxel_size)},
-      {"mode", set_enum(&O::mode)},
-      {"wall", set_double(&O::wall)},
-      {"offset", set_enum(&O::offset)},
-      {"rim", set_double(&O::rim)},
-      {"thin_feature_ratio", set_double(&O::thin_feature_ratio)},
-      {"crease_angle", set_double(&O::crease_angle)},
-      {"keep_out",
-       [](O& o, const std::string& n, py::handle v) {
-         o.keep_out.clear();
-         for (const auto& r : to_rows(n, v, 4)) o.keep_out.push_back({{r[0], r[1], r[2]}, r[3]});
-       }},
-      {"keep_out_boxes",
-       [](O& o, const std::string& n, py::handle v) {
-         o.keep_out_boxes.clear();
-         for (const auto& r : to_rows(n, v, 6))
-           o.keep_out_boxes.push_back({{r[0], r[1], r[2]}, {r[3], r[4], r[5]}});
-       }},
-      {"keep_out_mask", [](O& o, const std::string& n, py::handle v) { o.keep_out_mask = to_string(n, v); }},
-      {"max_triangles", set_int(&O::max_triangles)},
-      {"max_deviation", set_double(&O::max_deviation)},
-      {"keep_fragments", [](O& o, const std::string& n, py::handle v) { o.keep_fragments = to_bool(n, v); }},
-      {"min_part_fraction", set_double(&O::min_part_fraction)},
-      {"scale", set_double(&O::scale)},
-      {"preview", [](O& o, const std::string& n, py::handle v) { o.preview = to_bool(n, v); }},
-      {"alpha", set_double(&O::alpha)},
-      {"epsilon_m", set_double(&O::epsilon_m)},
-      {"dt_h", set_double(&O::dt_h)},
-      {"phi_bar", set_double(&O::phi_bar)},
-      {"iso",
-       [](O& o, const std::string& n, py::handle v) {
-         o.iso.clear();
-         if (py::isinstance<py::sequence>(v) && !py::isinstance<py::str>(v)) {
-           for (py::handle item : py::reinterpret_borrow<py::sequence>(v))
-             o.iso.push_back(to_double(n, item));
-           if (o.iso.empty()) bad_value(n, "a level or a non-empty sequence of levels", v);
-         } else {
-           o.iso.push_back(to_double(n, v));
-         }
-       }},
-      {"initial_amplitude", set_double(&O::initial_amplitude)},
-      {"seed", set_int(&O::seed)},
-      {"tolerance", set_double(&O::tolerance)},
-      {"max_steps", set_int(&O::max_steps)},
-      {"stop", set_enum(&O::stop)},
-      {"layout", set_enum(&O::layout)},
-      {"solver", set_enum(&O::solver)},
-      {"fast_tolerance", set_double(&O::fast_tolerance)},
-      {"min_stabilisation", set_double(&O::min_stabilisation)},
-      {"coarse_start", [](O& o, const std::string& n, py::handle v) { o.coarse_start = to_bool(n, v); }},
-      {"inner", set_enum(&O::inner)},
-      {"inner_tolerance", set_double(&O::inner_tolerance)},
-      {"energy_every", set_int(&O::energy_every)},
-      {"point_route", set_enum(&O::point_route)},
-      {"max_memory_gb", set_double(&O::max_memory_gb)},
-      {"threads", set_int(&O::threads)},
-  };
-  return table;
-}
-
-poreshell::Options to_options(const py::dict& kwargs, const std::string& caller = "perforate") {
-  poreshell::Options options;
-  for (const auto& [key_handle, value] : kwargs) {
-    const std::string key = py::str(key_handle);
-    const auto it = setters().find(key);
-    if (it == setters().end())
-      throw py::type_error(caller + "() got an unexpected keyword argument '" + key + "'");
-    if (!value.is_none()) it->second(options, key, value);
-  }
-  // As the CLI: with holes asked in mm, the hole map chooses the model, which may then not be given
-  // (Options cannot tell a default from a value given).
-  for (const char* hole : {"hole_diameter", "spacing", "porosity"}) {
-    if (!kwargs.contains(hole) || kwargs[hole].is_none()) continue;
-    for (const char* model : {"alpha", "epsilon_m", "dt_h", "phi_bar", "iso"})
-      if (kwargs.contains(model) && !kwargs[model].is_none())
-        throw py::value_error(std::string("`") + model + "` cannot be given with `" + hole +
-                              "`: the hole map chooses it from the holes in mm");
-  }
-  poreshell::validate(options);
-  return options;
-}
-
 // --- The run ----------------------------------------------------------------------------------------------
 
 struct RunState {
@@ -395,8 +175,19 @@ py::dict holes_dict(const std::vector<poreshell::Hole>& holes) {
 // (the calling, usually main) thread waits with the GIL released, checking for signals every 50 ms:
 // Ctrl-C sets the cancel flag, and the run stops within about half a second. The progress callback
 // takes the GIL from the run's threads. Returns the outputs as arrays and the report as JSON.
+// What the viewer page needs of a run besides its meshes, which live in the numpy arrays (one copy at a
+// time): the C++ Result without its meshes, the Options and the Input (kept alive by `owner`).
+struct ResultBox {
+  poreshell::Result result;
+  poreshell::Options options;
+  const poreshell::Input* input = nullptr;
+  py::object owner;
+};
+
 using Perforate = std::function<poreshell::Result(const poreshell::RunControl&)>;
-py::tuple run_and_collect(const Perforate& perforate, const py::object& progress, double max_seconds) {
+py::tuple run_and_collect(const Perforate& perforate, const py::object& progress, double max_seconds,
+                          const poreshell::Options& options, const poreshell::Input* input,
+                          py::object owner) {
   RunState state;
   state.progress = progress;
   poreshell::RunControl control;
@@ -467,34 +258,64 @@ py::tuple run_and_collect(const Perforate& perforate, const py::object& progress
     out.mesh = {};  // one copy at a time
     outputs.append(level);
   }
-  return py::make_tuple(outputs, report);
+  auto box = std::make_unique<ResultBox>();
+  box->result = std::move(result);
+  box->options = options;
+  box->input = input;
+  box->owner = std::move(owner);
+  return py::make_tuple(outputs, report, std::move(box));
 }
 
-py::tuple run(const InputBox& input, const py::dict& kwargs, const py::object& progress, double max_seconds) {
-  const poreshell::Options options = to_options(kwargs);
+// The viewer page of output `output` (its mesh given back from the arrays) at `html`, and its picture at
+// `png` when not empty (then `html` is a temporary page the caller removes).
+void save_view(ResultBox& box, std::size_t output, const Doubles& vertices, const Ints& faces,
+               const std::filesystem::path& html, const std::filesystem::path& png) {
+  if (output >= box.result.outputs.size())
+    throw py::value_error("the result has no output " + std::to_string(output));
+  poreshell::Mesh& mesh = box.result.outputs[output].mesh;
+  mesh = {to_points(vertices), to_triangles(faces)};
+  poreshell::ViewOptions view;
+  view.output = output;
+  try {
+    py::gil_scoped_release release;
+    poreshell::save_html(html, box.result, box.options, box.input, view);
+    if (!png.empty()) poreshell::save_png(html, png);
+  } catch (...) {
+    mesh = {};
+    throw;
+  }
+  mesh = {};
+}
+
+py::tuple run(const py::object& input_object, const py::dict& kwargs, const py::object& progress,
+              double max_seconds) {
+  const InputBox& input = input_object.cast<const InputBox&>();
+  const poreshell::Options options = poreshell_python::to_options(kwargs);
   return run_and_collect(
       [&](const poreshell::RunControl& control) {
         return poreshell::perforate(input.input, options, control);
       },
-      progress, max_seconds);
+      progress, max_seconds, options, &input.input, input_object);
 }
 
 // An input placed with its options once (poreshell::prepare), for estimate_prepared and run_prepared.
 // The input it points to is kept alive by the binding (py::keep_alive).
 struct PreparedBox {
   poreshell::Prepared prepared;
+  poreshell::Options options;  // for the viewer page
 };
 
 PreparedBox prepare(const InputBox& input, const py::dict& kwargs) {
-  const poreshell::Options options = to_options(kwargs, "prepare");
+  const poreshell::Options options = poreshell_python::to_options(kwargs, "prepare");
   py::gil_scoped_release release;
-  return PreparedBox{poreshell::prepare(input.input, options)};
+  return PreparedBox{poreshell::prepare(input.input, options), options};
 }
 
-py::tuple run_prepared(const PreparedBox& box, const py::object& progress, double max_seconds) {
+py::tuple run_prepared(const py::object& box_object, const py::object& progress, double max_seconds) {
+  const PreparedBox& box = box_object.cast<const PreparedBox&>();
   return run_and_collect(
       [&](const poreshell::RunControl& control) { return poreshell::perforate(box.prepared, control); },
-      progress, max_seconds);
+      progress, max_seconds, box.options, box.prepared.input, box_object);
 }
 
 py::dict estimate_dict(const poreshell::Estimate& e) {
@@ -515,7 +336,7 @@ py::dict estimate_dict(const poreshell::Estimate& e) {
 
 // poreshell::estimate() as a dict, the GIL released while the input is placed (a large scan's tree).
 py::dict estimate(const InputBox& input, const py::dict& kwargs) {
-  const poreshell::Options options = to_options(kwargs, "estimate");
+  const poreshell::Options options = poreshell_python::to_options(kwargs, "estimate");
   poreshell::Estimate e;
   {
     py::gil_scoped_release release;
@@ -549,6 +370,9 @@ PYBIND11_MODULE(_poreshell, m) {
 
   py::class_<InputBox>(m, "Input", "An input of the library: a mesh, a point cloud or a shape.");
   py::class_<PreparedBox>(m, "PreparedInput", "An input placed with its options (poreshell.prepare).");
+  py::class_<ResultBox>(m, "RunResult", "What a Result's viewer page needs besides its meshes.");
+  m.def("save_view", &save_view, py::arg("result"), py::arg("output"), py::arg("vertices"), py::arg("faces"),
+        py::arg("html"), py::arg("png"));
 
   m.def(
       "mesh_input",
@@ -631,11 +455,7 @@ PYBIND11_MODULE(_poreshell, m) {
       py::arg("pattern") = std::nullopt);
   m.def("check_mesh_path", [](const std::filesystem::path& path) { poreshell::check_mesh_path(path); });
   m.def("check_output_path", [](const std::filesystem::path& path) { poreshell::check_output_path(path); });
-  m.def("option_names", [] {
-    std::vector<std::string> names;
-    for (const auto& [name, unused] : setters()) names.push_back(name);
-    return names;
-  });
+  m.def("option_names", &poreshell_python::option_names);
   m.def("estimate", &estimate, py::arg("input"), py::arg("options"));
   m.def("prepare", &prepare, py::arg("input"), py::arg("options"), py::keep_alive<0, 1>());
   m.def("estimate_prepared", &estimate_prepared, py::arg("prepared"));

@@ -14,10 +14,11 @@ the option in backquotes, as in `hole_diameter`), RuntimeError for other failure
 when they come from the library.
 """
 
-import json
-import os
+# Imported under private names, so that the package namespace holds only the API (`__all__`).
+import json as _json
+import os as _os
 
-import numpy as np
+import numpy as _np
 
 from . import _poreshell
 
@@ -47,15 +48,15 @@ __version__ = _poreshell.version()
 OPTION_NAMES = tuple(_poreshell.option_names())
 
 #: The dtype of Result.holes: one row per hole through the wall, measured on the output mesh.
-HOLE_DTYPE = np.dtype(
+HOLE_DTYPE = _np.dtype(
     [
-        ("centre", np.float64, (3,)),  # mm, input frame
-        ("normal", np.float64, (3,)),  # unit surface normal
-        ("diameter", np.float64),  # mm, sqrt(4 A / pi) of the mid-wall cross-section's area A
-        ("circularity", np.float64),  # 4 pi A / P^2 (1 for a circle)
-        ("nearest", np.float64),  # mm, to the nearest other hole's centre (0 when alone)
-        ("axis_ratio", np.float64),  # minor over major axis of the cross-section (1 round)
-        ("asked_diameter", np.float64),  # mm asked at its centre (graded where asked; 0: none asked)
+        ("centre", _np.float64, (3,)),  # mm, input frame
+        ("normal", _np.float64, (3,)),  # unit surface normal
+        ("diameter", _np.float64),  # mm, sqrt(4 A / pi) of the mid-wall cross-section's area A
+        ("circularity", _np.float64),  # 4 pi A / P^2 (1 for a circle)
+        ("nearest", _np.float64),  # mm, to the nearest other hole's centre (0 when alone)
+        ("axis_ratio", _np.float64),  # minor over major axis of the cross-section (1 round)
+        ("asked_diameter", _np.float64),  # mm asked at its centre (graded where asked; 0: none asked)
     ]
 )
 
@@ -79,16 +80,16 @@ def _units(units):
 def _coordinates(array, name):
     """An (n, 3) float64 C-contiguous array from anything numpy converts safely to float64."""
     try:
-        a = np.asarray(array)
+        a = _np.asarray(array)
     except Exception as e:  # ragged lists and the like
         raise ValueError("`%s` must be an (n, 3) array of numbers: %s" % (name, e)) from None
-    if a.dtype.kind not in "iuf" or not np.can_cast(a.dtype, np.float64, casting="same_kind"):
+    if a.dtype.kind not in "iuf" or not _np.can_cast(a.dtype, _np.float64, casting="same_kind"):
         raise ValueError("`%s` must be an (n, 3) array of numbers, got dtype %s" % (name, a.dtype))
     if a.ndim != 2 or a.shape[1] != 3:
         raise ValueError("`%s` must be an (n, 3) array, got shape %s" % (name, a.shape))
-    a = np.ascontiguousarray(a, dtype=np.float64)
-    if not np.isfinite(a).all():
-        row = int(np.argwhere(~np.isfinite(a))[0][0])
+    a = _np.ascontiguousarray(a, dtype=_np.float64)
+    if not _np.isfinite(a).all():
+        row = int(_np.argwhere(~_np.isfinite(a))[0][0])
         raise ValueError("`%s` has a NaN or infinite coordinate (row %d)" % (name, row))
     return a
 
@@ -96,11 +97,11 @@ def _coordinates(array, name):
 def _indices(array, name, count):
     """An (m, 3) int32 C-contiguous array of indices into `count` points."""
     try:
-        a = np.asarray(array)
+        a = _np.asarray(array)
     except Exception as e:
         raise ValueError("`%s` must be an (m, 3) array of integers: %s" % (name, e)) from None
     if a.size == 0 and a.dtype.kind == "f":
-        a = a.astype(np.int32)  # an empty list becomes float64
+        a = a.astype(_np.int32)  # an empty list becomes float64
     if a.dtype.kind not in "iu":
         raise ValueError("`%s` must be an (m, 3) array of integers, got dtype %s" % (name, a.dtype))
     if a.ndim != 2 or a.shape[1] != 3:
@@ -109,7 +110,7 @@ def _indices(array, name, count):
         raise ValueError(
             "`%s` has an index outside 0..%d (the vertex count is %d)" % (name, count - 1, count)
         )
-    return np.ascontiguousarray(a, dtype=np.int32)
+    return _np.ascontiguousarray(a, dtype=_np.int32)
 
 
 # --- Inputs ---------------------------------------------------------------------------------------------
@@ -159,7 +160,7 @@ class Points:
     def __init__(self, points, patches=None, units="mm", name="points"):
         self.points = _coordinates(points, "points")
         self.patches = _indices(
-            np.zeros((0, 3), np.int32) if patches is None else patches, "patches", len(self.points)
+            _np.zeros((0, 3), _np.int32) if patches is None else patches, "patches", len(self.points)
         )
         self.units = _units(units)
         self.name = name
@@ -189,7 +190,7 @@ def load_mesh(path, units="mm"):
     times the unit's length in mm), faces an (m, 3) int32 array of vertex indices, counter-clockwise
     seen from outside. Duplicate vertices are welded.
     """
-    return _poreshell.load_mesh(os.fspath(path), _units(units))
+    return _poreshell.load_mesh(_os.fspath(path), _units(units))
 
 
 def load_points(path, units="mm"):
@@ -197,8 +198,8 @@ def load_points(path, units="mm"):
 
     units: the unit of the file's coordinates; the Points keep them in that unit.
     """
-    pts, patches = _poreshell.load_points(os.fspath(path))
-    p = Points(pts, patches, units, name=os.fspath(path))
+    pts, patches = _poreshell.load_points(_os.fspath(path))
+    p = Points(pts, patches, units, name=_os.fspath(path))
     return p
 
 
@@ -206,7 +207,7 @@ def load_points(path, units="mm"):
 
 
 def _holes_array(holes):
-    out = np.zeros(len(holes["diameter"]), dtype=HOLE_DTYPE)
+    out = _np.zeros(len(holes["diameter"]), dtype=HOLE_DTYPE)
     for field in HOLE_DTYPE.names:
         out[field] = holes[field]
     return out
@@ -222,7 +223,9 @@ class Output:
     pattern is its order parameter per vertex, (n,) float64: a hole where pattern > iso (else None).
     """
 
-    def __init__(self, level):
+    def __init__(self, level, run=None, index=0):
+        self._run = run  # the C++ side the viewer page needs (none for an Output made by hand)
+        self._index = index
         self.iso = float(level["iso"])
         self.vertices = level["vertices"]
         self.faces = level["faces"]
@@ -231,11 +234,29 @@ class Output:
 
     def save(self, path):
         """Writes this mesh in mm: .stl (binary), .3mf, .obj or .ply (binary) by extension; a
-        preview's .ply has its holes as vertex colours, as the CLI writes it.
+        preview's .ply has its holes as vertex colours, as the CLI writes it. .html writes the
+        interactive viewer page (the CLI's --html) and .png its picture (the CLI's --png, which needs
+        Chromium).
 
         The file is written to a temporary name and renamed, so a failure leaves no partial file.
         """
-        _poreshell.save_mesh(os.fspath(path), self.vertices, self.faces, self.iso, self.pattern)
+        path = _os.fspath(path)
+        extension = _os.path.splitext(path)[1].lower()
+        if extension not in (".html", ".png"):
+            _poreshell.save_mesh(path, self.vertices, self.faces, self.iso, self.pattern)
+            return
+        if self._run is None:
+            raise ValueError("only an Output of a perforate() Result can be saved as %s" % (extension,))
+        if extension == ".html":
+            _poreshell.save_view(self._run, self._index, self.vertices, self.faces, path, "")
+            return
+        # A picture is taken of a page in a temporary file beside it, as the CLI does.
+        page = _os.path.splitext(path)[0] + ".tmp-view%d.html" % _os.getpid()
+        try:
+            _poreshell.save_view(self._run, self._index, self.vertices, self.faces, page, path)
+        finally:
+            if _os.path.exists(page):
+                _os.remove(page)
 
     def __repr__(self):
         return "poreshell.Output(iso=%g, %d vertices, %d faces, %d holes)" % (
@@ -255,9 +276,9 @@ class Result:
     report["mesh"]["triangles"], report["mesh"]["pores_from_euler"], report["pattern"]["spots"]).
     """
 
-    def __init__(self, levels, report_text):
-        self.outputs = [Output(level) for level in levels]
-        self.report = json.loads(report_text)
+    def __init__(self, levels, report_text, run=None):
+        self.outputs = [Output(level, run, i) for i, level in enumerate(levels)]
+        self.report = _json.loads(report_text)
 
     @property
     def vertices(self):
@@ -276,22 +297,23 @@ class Result:
         return self.outputs[0].iso
 
     def save(self, path):
-        """Writes the first output's mesh (see Output.save); use outputs[i].save for the other levels."""
+        """Writes the first output (see Output.save: a mesh by its extension, or .html the viewer page,
+        .png its picture); use outputs[i].save for the other levels."""
         self.outputs[0].save(path)
 
     def save_report(self, path):
         """Writes the JSON report (indented), to a temporary name first and then renamed."""
-        path = os.fspath(path)
+        path = _os.fspath(path)
         _poreshell.check_output_path(path)
-        tmp = "%s.tmp%d" % (path, os.getpid())
+        tmp = "%s.tmp%d" % (path, _os.getpid())
         try:
             with open(tmp, "w", encoding="utf-8") as f:
-                json.dump(self.report, f, indent=2)
+                _json.dump(self.report, f, indent=2)
                 f.write("\n")
-            os.replace(tmp, path)
+            _os.replace(tmp, path)
         except BaseException:
-            if os.path.exists(tmp):
-                os.remove(tmp)
+            if _os.path.exists(tmp):
+                _os.remove(tmp)
             raise
 
     def __repr__(self):
@@ -332,6 +354,7 @@ def perforate(
       path              a mesh file (str or os.PathLike; STL, OBJ, PLY, OFF, 3MF), coordinates in `units`
       Shape             poreshell.sphere(radius_mm) or poreshell.torus(major_radius_mm)
       Points            poreshell.points(array, units=...) or poreshell.load_points(path, units=...)
+      mesh object       anything with `.vertices` and `.faces` arrays (a trimesh.Trimesh, a Result)
 
     units: 'm', 'cm', 'mm' or 'inch': the unit of vertices or the file (default 'mm'); Shape and Points
         carry their own (giving a different one here is an error).
@@ -361,9 +384,10 @@ def perforate(
       seed           seed of the initial random field (same seed, same result)
       threads        worker threads, 0: all cores (results do not depend on it)
       progress       callable(stage, fraction): stage is 'input', 'band', 'solve', 'shell', 'mesh' or
-                     'holes', fraction 0..1 of that stage; called from the run's threads with the GIL
-                     held, at each stage's start and a few times a second while solving. An exception it
-                     raises cancels the run and propagates out of perforate() unchanged.
+                     'holes', in that order (a preview: no 'shell' or 'holes'), fraction 0..1 of that
+                     stage; called from the run's threads with the GIL held, at each stage's start
+                     and a few times a second while solving. An exception it raises cancels the run
+                     and propagates out of perforate() unchanged.
       max_seconds    a time budget: a run still computing after it raises RuntimeError (code
                      'out_of_time'); 0: none
 
@@ -496,27 +520,29 @@ def _make_input(first, faces, units, vertex_fields):
             )
         return first._input()
     units = _units("mm" if units is None else units)
-    if isinstance(first, (str, os.PathLike)):
+    if faces is None and hasattr(first, "vertices") and hasattr(first, "faces"):
+        first, faces = first.vertices, first.faces  # a trimesh.Trimesh, a Result
+    if isinstance(first, (str, _os.PathLike)):
         if faces is not None:
             raise ValueError("`faces` is only for a vertex array, not a file")
         fields = [] if vertex_fields is None else list(vertex_fields)
         if not all(isinstance(f, str) for f in fields):
             raise ValueError("with a file, `vertex_fields` names PLY vertex properties (a sequence of str)")
-        return _poreshell.file_mesh_input(os.fspath(first), units, fields)
+        return _poreshell.file_mesh_input(_os.fspath(first), units, fields)
     if faces is None:
         raise ValueError(
-            "perforate() needs vertices and faces, a mesh file's path, a Shape (poreshell.sphere, "
-            "poreshell.torus) or Points (poreshell.points)"
+            "perforate() needs vertices and faces, a mesh file's path, a mesh object with `.vertices` "
+            "and `.faces`, a Shape (poreshell.sphere, poreshell.torus) or Points (poreshell.points)"
         )
     v = _coordinates(first, "vertices")
     f = _indices(faces, "faces", len(v))
     fields = {}
     for name, values in (vertex_fields or {}).items():
-        a = np.asarray(values)
+        a = _np.asarray(values)
         if a.dtype.kind not in "iufb" or a.shape != (len(v),):
             raise ValueError(
                 "vertex field %r must be a (%d,) array of numbers, got shape %s dtype %s"
                 % (name, len(v), a.shape, a.dtype)
             )
-        fields[str(name)] = a.astype(np.float64).tolist()
+        fields[str(name)] = a.astype(_np.float64).tolist()
     return _poreshell.mesh_input(v, f, units, "mesh", fields)

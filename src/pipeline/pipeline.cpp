@@ -348,7 +348,13 @@ PipelineResult run_pipeline(const Input& input, const PreparedInput& prepared, R
                        : analyze_topology(out.mesh, share.part(reduced, checked));
     out.pores_from_euler = (result.unperforated_euler - wall_voids - out.topology.euler_characteristic) / 2;
     check_printable(out.topology, out.iso);
-    share.advance(checked);
+    share.advance(1.0);
+  }
+  // Every level is printable: now its holes and wall are measured on the mesh (the stage `holes` that
+  // Progress documents; it reads only the meshes, the probes and the placement).
+  monitor.stage("holes");
+  for (std::size_t level = 0; level < options.iso.size(); ++level) {
+    MeshOutput& out = result.meshes[level];
     if (shell_mode) out.wall = measure_wall(out.mesh, probes[level], 4.0 * result.solid.wall_mm);
     monitor.check();
     out.hole_table = output_hole_table(out.mesh, out.holes, placed, grid.h(), result.solid.wall_mm,
@@ -357,7 +363,7 @@ PipelineResult run_pipeline(const Input& input, const PreparedInput& prepared, R
     std::vector<HoleDisc> discs;
     for (const HoleRecord& h : out.hole_table.holes) discs.push_back({h.centre, h.diameter});
     out.zones = check_zones(discs, options, placed);
-    share.advance(1.0);
+    monitor.advance(static_cast<double>(level + 1) / static_cast<double>(options.iso.size()));
   }
   result.seconds_mesh = seconds_since(t);
   result.seconds_total = seconds_since(start);

@@ -90,7 +90,7 @@ TEST(Api, CancelsAtEveryStage) {
   perforate(input, quick_options(), {[&](const Progress& p) {
               if (stages.empty() || stages.back() != p.stage) stages.emplace_back(p.stage);
             }});
-  const std::vector<std::string> expected{"input", "band", "solve", "shell", "mesh"};
+  const std::vector<std::string> expected{"input", "band", "solve", "shell", "mesh", "holes"};
   ASSERT_EQ(stages, expected);
   struct Stop {};
   for (const std::string& stage : stages) {
