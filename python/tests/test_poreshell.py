@@ -318,3 +318,38 @@ def test_help_is_useful():
     doc = poreshell.perforate.__doc__
     for word in ("vertices", "(n, 3)", "mm", "hole_diameter", "progress", "ValueError", "Shape"):
         assert word in doc
+
+
+def _open_sleeve(radius=15.0, length=30.0, segments=24, rings=4):
+    """An open cylinder: vertices (n, 3) and faces (m, 3), as tests/support/test_meshes.hpp's."""
+    a = 2 * np.pi * np.arange(segments) / segments
+    v = np.array([[radius * np.cos(t), radius * np.sin(t), length * r / rings]
+                  for r in range(rings + 1) for t in a])
+    f = []
+    for r in range(rings):
+        for s in range(segments):
+            i, j = r * segments + s, r * segments + (s + 1) % segments
+            f += [[i, j, j + segments], [i, j + segments, i + segments]]
+    return v, np.array(f, dtype=np.int32)
+
+
+def test_mesh_preview_runs_the_equation_with_either_solver():
+    """issue 47: perforate(V, F, preview=True) with the paper's parameters (or layout='paper') solved on
+    the band's surface layer and killed the interpreter. Run in a child so that a crash fails the test
+    instead of ending pytest."""
+    code = (
+        "import numpy as np, poreshell, sys\n"
+        "sys.path.insert(0, %r)\n"
+        "from test_poreshell import _open_sleeve\n"
+        "v, f = _open_sleeve()\n"
+        "for solver in ('fast', 'reference'):\n"
+        "    for extra in (dict(resolution=41), dict(hole_diameter=6, spacing=10, layout='paper')):\n"
+        "        r = poreshell.perforate(v, f, preview=True, solver=solver, max_steps=4, threads=2, **extra)\n"
+        "        assert r.report['solver']['steps'] > 0, r.report['solver']\n"
+        "        assert r.outputs[0].pattern.shape == (len(r.vertices),)\n"
+        "        assert np.isfinite(r.outputs[0].pattern).all()\n"
+        "print('ok')\n" % str(pathlib.Path(__file__).parent)
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=280)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert done.stdout.strip() == "ok"

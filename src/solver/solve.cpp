@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <memory>
 #include <numeric>
+#include <stdexcept>
 
 #include "core/error.hpp"
 #include "core/heap.hpp"
@@ -172,6 +173,9 @@ SolveResult solve_pattern(const Options& c, const std::optional<PatternPlan>& pl
       return result;
     }
   }
+  // A layer has no ghosts and -1 for its outer neighbours: the solvers would read and write past it.
+  if (band.surface_layer())
+    throw std::logic_error("solve_pattern: the band is a surface layer (builds_surface_layer), not solvable");
   monitor.check();
   if (coarse_grid) {
     CoarseStartOptions coarse{[&](const NarrowBand& b) { return level_start(b, zone_weight(b), true); },
