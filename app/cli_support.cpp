@@ -1,11 +1,14 @@
 #include "cli_support.hpp"
 
+#include "command_line.hpp"
+
 #include <fmt/core.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <utility>
 
 namespace fs = std::filesystem;
 
@@ -114,6 +117,61 @@ poreshell::Estimate estimate_with_flags(const poreshell::Prepared& prepared) {
   poreshell::Estimate e = poreshell::estimate(prepared);
   for (std::string& warning : e.warnings) warning = with_flags(warning);
   return e;
+}
+
+namespace {
+
+// The file a path names: links, "." and ".." resolved in the part that exists.
+fs::path resolved(const std::string& path) {
+  std::error_code ec;
+  fs::path p = fs::weakly_canonical(fs::absolute(path, ec), ec);
+  return ec ? fs::absolute(path).lexically_normal() : p;
+}
+
+bool same_file(const std::string& a, const std::string& b) {
+  if (resolved(a) == resolved(b)) return true;
+  std::error_code ec;
+  return fs::equivalent(a, b, ec) && !ec;  // hard links
+}
+
+}  // namespace
+
+void check_output_paths(const Command& command) {
+  const poreshell::Options& options = command.options;
+  const bool several = options.iso.size() > 1 && options.hole_diameter <= 0.0 && options.spacing <= 0.0 &&
+                       options.porosity <= 0.0;
+  std::vector<std::pair<std::string, std::string>> outputs;  // flag, path
+  if (!command.output.empty()) {
+    poreshell::check_mesh_path(command.output);
+    const std::size_t levels = several ? options.iso.size() : 1;
+    for (std::size_t i = 0; i < levels; ++i)
+      outputs.emplace_back(
+          "-o",
+          poreshell::output_path_for_level(command.output, several ? options.iso[i] : 0.0, several).string());
+  }
+  for (const auto& [flag, path] : {std::pair<const char*, const std::string&>{"--report", command.report},
+                                   {"--holes", command.holes_csv},
+                                   {"--html", command.html},
+                                   {"--png", command.png}})
+    if (!path.empty()) {
+      poreshell::check_output_path(path);
+      outputs.emplace_back(flag, path);
+    }
+  const std::string& input = !command.mesh.empty() ? command.mesh : command.points;
+  const char* input_flag = !command.mesh.empty() ? "--mesh" : "--points";
+  for (std::size_t i = 0; i < outputs.size(); ++i) {
+    const auto& [flag, path] = outputs[i];
+    if (!input.empty() && same_file(path, input))
+      throw UsageError(
+          fmt::format("{} '{}' is the input file ({} '{}'): it would be overwritten; give {} another path",
+                      flag, path, input_flag, input, flag));
+    for (std::size_t j = 0; j < i; ++j)
+      if (same_file(path, outputs[j].second))
+        throw UsageError(
+            fmt::format("{} '{}' and {} '{}' are the same file: one would overwrite the other; "
+                        "give each output its own path",
+                        outputs[j].first, outputs[j].second, flag, path));
+  }
 }
 
 int usage_error(const std::string& message) {

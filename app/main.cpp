@@ -66,11 +66,7 @@ int run(int argc, char** argv) {
   // Fail before the (possibly minutes long) run rather than after it.
   const bool several = options.iso.size() > 1 && options.hole_diameter <= 0.0 && options.spacing <= 0.0 &&
                        options.porosity <= 0.0;
-  if (!output.empty()) poreshell::check_mesh_path(output);
-  if (!report.empty()) poreshell::check_output_path(report);
-  if (!holes_csv.empty()) poreshell::check_output_path(holes_csv);
-  if (!html.empty()) poreshell::check_output_path(html);
-  if (!png.empty()) poreshell::check_output_path(png);
+  check_output_paths(command);
 
   poreshell::Input input;
   if (!mesh.empty()) {

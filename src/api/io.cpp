@@ -81,6 +81,7 @@ void check_output_path(const std::filesystem::path& path) {
                                    "' does not exist; create it or choose another path");
   if (std::filesystem::is_directory(path, ec))
     throw Error(ErrorCode::io, "cannot write '" + path.string() + "': it is a directory; give a file name");
+  probe_output_folder(path);
 }
 
 void check_mesh_path(const std::filesystem::path& path) {

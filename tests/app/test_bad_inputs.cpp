@@ -372,6 +372,20 @@ std::vector<Row> rows() {
        "the directory '/nonexistent-poreshell' does not exist", "create it or choose another", kOptionRun},
       {"output folder cannot be written", "", "", "--resolution 33 -o /proc/out.stl", 1,
        "cannot create a file in '/proc'", "check that the directory is writable", kOptionRun},
+      // Issue 47: every output path is checked before the run, not only -o's.
+      {"--html folder cannot be written", "", "", "--resolution 33 --html /proc/view.html", 1,
+       "cannot create a file in '/proc'", "check that the directory is writable", kOptionRun},
+      {"--holes folder cannot be written", "", "", "--resolution 33 --holes /proc/holes.csv", 1,
+       "cannot create a file in '/proc'", "check that the directory is writable", kOptionRun},
+      {"output file name too long", "", "", "--resolution 33 -o " + std::string(250, 'a') + ".stl", 1,
+       "file name is too long", "choose a shorter name", kOptionRun},
+      {"-o is the --mesh input", "m.obj", tet_obj("10"), "--mesh FILE -o FILE", 2, "is the input file",
+       "give -o another path"},
+      {"--html is the --report", "", "", "--resolution 33 --html out.json", 2,
+       "--report 'out.json' and --html 'out.json' are the same file", "give each output its own path",
+       kOptionRun},
+      {"--holes is the --report (another spelling)", "", "", "--resolution 33 --holes ./out.json", 2,
+       "are the same file", "give each output its own path", kOptionRun},
   };
   return r;
 }
@@ -422,6 +436,38 @@ TEST_F(BadInputs, EachRowFailsWithOneErrorLineNamingProblemAndFixAndWritesNothin
     EXPECT_NE(err[0].find(row.fix), std::string::npos) << err[0];
     EXPECT_TRUE(fs::is_empty(out)) << "output left behind";
     if (!row.file.empty()) fs::remove(in / row.file);
+  }
+}
+
+// Issue 47: two outputs naming one file (by any spelling), or -o naming the input, are refused before
+// the run; nothing is written and the input is left as it was.
+TEST_F(BadInputs, OutputsNamingOneFileOrTheInputAreRefusedBeforeTheRun) {
+  const fs::path input = root_ / "in" / "keep.obj";
+  std::ofstream(input) << tet_obj("10");
+  const std::string in = quoted(input);
+  const std::vector<std::string> cases = {"-o same.stl --report same.stl",
+                                          "-o same.stl --html ./same.stl",
+                                          "-o same.stl --png ../out/same.stl",
+                                          "--report r.json --holes r.json",
+                                          "-o " + in + " --report r.json",
+                                          "-o out.stl --report " + in,
+                                          "-o out.stl --iso 0.1,0.2 --html out-iso0.2.stl"};
+  for (const std::string& outputs : cases) {
+    SCOPED_TRACE(outputs);
+    const fs::path log = root_ / "stderr";
+    const std::string command = "cd '" + (root_ / "out").string() + "' && '" + PORESHELL_EXE + "' --mesh " +
+                                in + " " + outputs + " " + kSmallRun + " >/dev/null 2>'" + log.string() +
+                                "' </dev/null";
+    const int status = std::system(command.c_str());
+    ASSERT_TRUE(WIFEXITED(status)) << "killed by a signal: " << command;
+    EXPECT_EQ(WEXITSTATUS(status), 2);
+    const auto err = lines(read_file(log));
+    ASSERT_EQ(err.size(), 1u) << read_file(log);
+    EXPECT_TRUE(err[0].find("are the same file") != std::string::npos ||
+                err[0].find("is the input file") != std::string::npos)
+        << err[0];
+    EXPECT_TRUE(fs::is_empty(root_ / "out")) << "output left behind";
+    EXPECT_EQ(read_file(input), tet_obj("10")) << "the input was changed";
   }
 }
 
