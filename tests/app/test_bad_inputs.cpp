@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <array>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
@@ -159,6 +160,52 @@ std::string package_3mf(const std::string& resources, const std::string& build) 
       "xmlns=\"http://schemas.microsoft.com/3dmanufacturing/core/2015/02\"><resources>" +
       resources + "</resources><build>" + build + "</build></model>\n";
   return zip({{"[Content_Types].xml", types}, {"_rels/.rels", rels}, {"3D/3dmodel.model", model}});
+}
+
+// A closed 20 mm cube (8 corners, 12 triangles, outward), its corner 7 moved to `far` on each axis.
+struct Cube {
+  std::vector<std::array<double, 3>> v;
+  std::vector<std::array<int, 3>> t = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
+                                       {2, 3, 7}, {2, 7, 6}, {1, 2, 6}, {1, 6, 5}, {0, 4, 7}, {0, 7, 3}};
+  explicit Cube(double far) {
+    for (int k = 0; k < 8; ++k)
+      v.push_back({20.0 * (k == 1 || k == 2 || k == 5 || k == 6),
+                   20.0 * (k == 2 || k == 3 || k == 6 || k == 7), 20.0 * (k >= 4)});
+    v[7] = {far, far, far};
+  }
+};
+
+std::string far_cube_obj(double far) {
+  const Cube c(far);
+  std::ostringstream s;
+  s.precision(17);
+  for (const auto& p : c.v) s << "v " << p[0] << ' ' << p[1] << ' ' << p[2] << '\n';
+  for (const auto& t : c.t) s << "f " << t[0] + 1 << ' ' << t[1] + 1 << ' ' << t[2] + 1 << '\n';
+  return s.str();
+}
+
+std::string far_cube_stl(float far) {
+  const Cube c(far);
+  std::string s = std::string(80, ' ') + u32(12);
+  for (const auto& t : c.t) {
+    s += f32s({0, 0, 0});
+    for (int k : t) s += f32s({float(c.v[k][0]), float(c.v[k][1]), float(c.v[k][2])});
+    s += std::string(2, '\0');
+  }
+  return s;
+}
+
+std::string far_cube_ply(double far) {
+  const Cube c(far);
+  std::string s =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 8\nproperty double x\nproperty double y\n"
+      "property double z\nelement face 12\nproperty list uchar int vertex_indices\nend_header\n";
+  for (const auto& p : c.v) s.append(reinterpret_cast<const char*>(p.data()), 24);
+  for (const auto& t : c.t) {
+    s += '\3';
+    for (int k : t) s += u32(static_cast<std::uint32_t>(k));
+  }
+  return s;
 }
 
 std::string repeated(const std::string& line, std::size_t n) {
@@ -372,6 +419,32 @@ std::vector<Row> rows() {
        "the directory '/nonexistent-poreshell' does not exist", "create it or choose another", kOptionRun},
       {"output folder cannot be written", "", "", "--resolution 33 -o /proc/out.stl", 1,
        "cannot create a file in '/proc'", "check that the directory is writable", kOptionRun},
+      // Issue 47: geometry a reader would drop without a word is refused, naming the line or element.
+      {"vertex at 1e16 mm (OBJ cube)", "far.obj", far_cube_obj(1e16), "--mesh FILE", 1,
+       "vertex 7 (counting from 0, as imported) at (1e+16", "remove or fix the vertex"},
+      {"vertex at 3.4e38 (binary STL cube)", "far.stl", far_cube_stl(3.4e38f), "--mesh FILE", 1,
+       "lies far outside the rest of the mesh", "remove or fix the vertex"},
+      {"vertex at 1e308 (binary PLY cube)", "far.ply", far_cube_ply(1e308), "--mesh FILE", 1,
+       "vertex 7 (counting from 0, as imported) at (1e+308", "remove or fix the vertex"},
+      {"ASCII PLY face line short of an index", "s.ply", kPlyHead + kPlyVertices + "3 0 2\n3 0 1 3\n3 0 3 2\n3 1 2 3\n",
+       "--mesh FILE", 1, "'face' entry 0 (counting from 0): line 14 ends before the row does", "re-export"},
+      {"ASCII PLY face line with a value too many", "x.ply",
+       kPlyHead + kPlyVertices + "3 0 2 1\n3 0 1 3 2\n3 0 3 2\n3 1 2 3\n", "--mesh FILE", 1,
+       "line 15 has values after the row's last property", "re-export"},
+      {"ASCII PLY with data after its last element", "t.ply", kPlyHead + kPlyVertices + kPlyFaces + "3 0 1 2\n",
+       "--mesh FILE", 1, "has data after its last element ('3' on line 18)", "re-export"},
+      {"binary PLY face of 0 vertices", "z.ply", [] {
+         std::string s = little_endian_tet_ply("binary_little_endian");
+         s.replace(s.find("element face 4"), 14, "element face 5");
+         return s + '\0';
+       }(),
+       "--mesh FILE", 1, "face 4 (counting from 0) has 0 vertices", "re-export"},
+      {"OBJ line starting with a NUL byte", "nul.obj", tet_obj("10") + std::string("\0f 1 2 3\n", 9), "--mesh FILE",
+       1, "line 9: a NUL byte", "re-export"},
+      {"ASCII STL facet with 4 vertices", "q.stl",
+       "solid q\nfacet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 10 0 0\nvertex 10 10 0\nvertex 0 10 "
+       "0\nendloop\nendfacet\nendsolid q\n",
+       "--mesh FILE", 1, "line 8: a facet with 4 vertices", "re-export"},
       // Issue 47: every output path is checked before the run, not only -o's.
       {"--html folder cannot be written", "", "", "--resolution 33 --html /proc/view.html", 1,
        "cannot create a file in '/proc'", "check that the directory is writable", kOptionRun},
