@@ -15,9 +15,10 @@ namespace fs = std::filesystem;
 // The library names options by their API names in backquotes (`hole_diameter`); here they are flags.
 std::string with_flags(std::string message) {
   static const std::map<std::string, std::string> kFlags{
-      {"max_memory_gb", "--max-memory"},    {"tolerance", "--tol"},
-      {"fast_tolerance", "--fast-tol"},     {"inner_tolerance", "--inner-tol"},
-      {"keep_out_boxes", "--keep-out-box"}, {"radius_mm", "--radius"}};
+      {"max_memory_gb", "--max-memory"},        {"tolerance", "--tol"},
+      {"fast_tolerance", "--fast-tol"},         {"inner_tolerance", "--inner-tol"},
+      {"keep_out_boxes", "--keep-out-box"},     {"radius_mm", "--radius"},
+      {"thin_feature_ratio", "--thin-features"}};
   for (std::size_t open = message.find('`'); open != std::string::npos; open = message.find('`', open)) {
     const std::size_t close = message.find('`', open + 1);
     if (close == std::string::npos) break;

@@ -353,3 +353,28 @@ def test_mesh_preview_runs_the_equation_with_either_solver():
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=280)
     assert done.returncode == 0, done.stderr[-2000:]
     assert done.stdout.strip() == "ok"
+
+
+# A closed 20 mm cube, outward triangles.
+CUBE_V = np.array([[0, 0, 0], [20, 0, 0], [20, 20, 0], [0, 20, 0],
+                   [0, 0, 20], [20, 0, 20], [20, 20, 20], [0, 20, 20]], dtype=float)
+CUBE_F = np.array([[0, 2, 1], [0, 3, 2], [4, 5, 6], [4, 6, 7], [0, 1, 5], [0, 5, 4],
+                   [2, 3, 7], [2, 7, 6], [1, 2, 6], [1, 6, 5], [0, 4, 7], [0, 7, 3]], dtype=np.int32)
+
+
+def test_a_far_vertex_is_refused_not_dropped():
+    """issue 47: a corner at 1e20 made needles of its triangles, which were dropped without a word
+    (the cube came out open, exit 0)."""
+    v = CUBE_V.copy()
+    v[7] = 1e20
+    with pytest.raises(ValueError, match=r"vertex 7 .* lies far outside the rest of the mesh"):
+        poreshell.perforate(v, CUBE_F, resolution=33, max_steps=5)
+
+
+def test_holes_wider_than_the_model_name_the_unit_that_fits():
+    """issue 47: a model in metres read as mm (0.02 mm across) with 8 mm holes was told to ask for smaller
+    holes; the unit comes first now."""
+    with pytest.raises(ValueError, match=r"fit nowhere .* say `units` m \(it is then 20 mm across\)"):
+        poreshell.perforate(CUBE_V / 1000.0, CUBE_F, hole_diameter=8)
+    with pytest.raises(ValueError, match=r"holes of 30 mm fit nowhere"):
+        poreshell.perforate(CUBE_V, CUBE_F, hole_diameter=30)

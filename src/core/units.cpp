@@ -16,6 +16,14 @@ double millimetres_per(Unit unit) {
   return 1.0;
 }
 
+std::optional<Unit> fitting_unit(double longest, Unit current) {
+  for (const Unit u : {Unit::mm, Unit::cm, Unit::inch, Unit::m}) {
+    const double mm = longest * millimetres_per(u);
+    if (u != current && mm >= kGoodLowMm && mm <= kGoodHighMm) return u;
+  }
+  return std::nullopt;
+}
+
 const char* to_string(Unit unit) {
   switch (unit) {
     case Unit::m:

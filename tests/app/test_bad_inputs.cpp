@@ -445,6 +445,11 @@ std::vector<Row> rows() {
        "solid q\nfacet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 10 0 0\nvertex 10 10 0\nvertex 0 10 "
        "0\nendloop\nendfacet\nendsolid q\n",
        "--mesh FILE", 1, "line 8: a facet with 4 vertices", "re-export"},
+      // Issue 47: a request that cannot be met says so before the run, naming what to change.
+      {"holes larger than the model (metres read as mm)", "m.obj", tet_obj("0.15"), "--mesh FILE --hole-diameter 8",
+       1, "fit nowhere on it", "say --units m", kOptionRun},
+      {"holes wider than the model", "w.obj", tet_obj("70"), "--mesh FILE --hole-diameter 100", 1,
+       "holes of 100 mm fit nowhere on it", "ask for --hole-diameter well under", kOptionRun},
       // Issue 47: every output path is checked before the run, not only -o's.
       {"--html folder cannot be written", "", "", "--resolution 33 --html /proc/view.html", 1,
        "cannot create a file in '/proc'", "check that the directory is writable", kOptionRun},
