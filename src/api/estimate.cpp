@@ -84,7 +84,7 @@ std::string count_in_words(double n) {
 void size_warnings(const Estimate& e, const Input& input, const Options& o, std::vector<std::string>& out) {
   const double longest_mm = *std::max_element(e.size_mm.begin(), e.size_mm.end());
   if (longest_mm >= kSmallModelMm && longest_mm <= kLargeModelMm) return;
-  std::string text = fmt::format("the model is {:.3g} mm across, {} than most prints", longest_mm,
+  std::string text = fmt::format("the model is {} mm across, {} than most prints", readable(longest_mm),
                                  longest_mm < kSmallModelMm ? "smaller" : "larger");
   const Unit unit = std::visit([](const auto& in) { return in.unit; }, input);
   const bool shape_in_mm =
@@ -92,8 +92,8 @@ void size_warnings(const Estimate& e, const Input& input, const Options& o, std:
   const double longest_units = longest_mm / (millimetres_per(unit) * o.scale);
   const std::optional<Unit> better = shape_in_mm ? std::nullopt : fitting_unit(longest_units, unit);
   if (better && o.scale == 1.0)
-    text += fmt::format("; if its coordinates are in {}, say `units` {} ({:.3g} mm)", to_string(*better),
-                        to_string(*better), longest_units * millimetres_per(*better));
+    text += fmt::format("; if its coordinates are in {}, say `units` {} ({} mm)", to_string(*better),
+                        to_string(*better), readable(longest_units * millimetres_per(*better)));
   else
     text += fmt::format("; `scale` {:.3g} would make it 100 mm", o.scale * 100.0 / longest_mm);
   out.push_back(text);
@@ -113,17 +113,17 @@ void keep_out_warnings(const Options& o, const PlacedSurface& placed, std::vecto
     const Vec3 c(k.centre[0], k.centre[1], k.centre[2]);
     if (const double d = gap(c, c) - k.radius; d > 0.0)
       out.push_back(
-          fmt::format("`keep_out` {:g},{:g},{:g},{:g} lies {:.3g} mm outside the model's bounds {} "
+          fmt::format("`keep_out` {:g},{:g},{:g},{:g} lies {} mm outside the model's bounds {} "
                       "and keeps nothing solid; give it in the input's frame, in mm",
-                      c.x(), c.y(), c.z(), k.radius, d, bounds));
+                      c.x(), c.y(), c.z(), k.radius, readable(d), bounds));
   }
   for (const KeepOutBox& k : o.keep_out_boxes) {
     const Vec3 a(k.min[0], k.min[1], k.min[2]), b(k.max[0], k.max[1], k.max[2]);
     if (const double d = gap(a.cwiseMin(b), a.cwiseMax(b)); d > 0.0)
       out.push_back(
-          fmt::format("`keep_out_boxes` {:g},{:g},{:g},{:g},{:g},{:g} lies {:.3g} mm outside the "
+          fmt::format("`keep_out_boxes` {:g},{:g},{:g},{:g},{:g},{:g} lies {} mm outside the "
                       "model's bounds {} and keeps nothing solid; give it in the input's frame, in mm",
-                      a.x(), a.y(), a.z(), b.x(), b.y(), b.z(), d, bounds));
+                      a.x(), a.y(), a.z(), b.x(), b.y(), b.z(), readable(d), bounds));
   }
 }
 
@@ -207,10 +207,10 @@ Estimate estimate_prepared(const Input& input, const PreparedInput& prepared) {
     if (extent >= 0.1 * longest_mm) smallest_mm = std::min(smallest_mm, extent);
   const double hole = plan ? plan->diameter : 0.0;
   if (hole > smallest_mm / 3.0)
-    e.warnings.push_back(fmt::format(
-        "holes of {:.3g} mm are more than a third of the model's smallest extent ({:.3g} mm): few holes "
-        "fit; ask for a smaller `hole_diameter`",
-        hole, smallest_mm));
+    e.warnings.push_back(
+        fmt::format("holes of {} mm are more than a third of the model's smallest extent ({} mm): few holes "
+                    "fit; ask for a smaller `hole_diameter`",
+                    readable(hole), readable(smallest_mm)));
   keep_out_warnings(given, placed, e.warnings);
   if (e.seconds > kLongRunSeconds)
     e.warnings.push_back(

@@ -35,7 +35,7 @@ int resolution_for(const Options& c, double mm_per_unit, double longest_extent, 
                       "holes this small need " + points +
                           " grid points along the model's longest side (at most 2048): ask for holes and "
                           "spacing " +
-                          std::to_string(n / 2048) + " times larger or more");
+                          fmt::format("{:g}", std::ceil(10.0 * n / 2048) / 10.0) + " times larger or more");
   if (n > 2048)
     throw OptionError("voxel_size", "`voxel_size` needs " + points +
                                         " grid points along the longest side (at most 2048): choose a larger "
@@ -66,16 +66,16 @@ void check_holes_fit(const Options& c, const Vec3& extent_mm, double mm_per_unit
     if (extent_mm[a] >= 0.1 * longest) smallest = std::min(smallest, extent_mm[a]);
   if (hole < smallest) return;
   const char* asked = c.hole_diameter > 0.0 ? "holes" : "a spacing";
-  std::string text =
-      fmt::format("{} is {:.3g} mm across at its narrowest, and {} of {:.3g} mm fit nowhere on it", what,
-                  smallest, asked, hole);
+  std::string text = fmt::format("{} is {} mm across at its narrowest, and {} of {} mm fit nowhere on it",
+                                 what, readable(smallest), asked, readable(hole));
   const double longest_units = longest / mm_per_unit;
   const std::optional<Unit> better = c.scale == 1.0 ? fitting_unit(longest_units, unit) : std::nullopt;
   if (better)
-    text += fmt::format("; if its coordinates are in {}, say `units` {} (it is then {:.3g} mm across)",
-                        to_string(*better), to_string(*better), longest_units * millimetres_per(*better));
-  text += fmt::format("; {}ask for `{}` well under {:.3g} mm", better ? "else " : "",
-                      c.hole_diameter > 0.0 ? "hole_diameter" : "spacing", smallest);
+    text += fmt::format("; if its coordinates are in {}, say `units` {} (it is then {} mm across)",
+                        to_string(*better), to_string(*better),
+                        readable(longest_units * millimetres_per(*better)));
+  text += fmt::format("; {}ask for `{}` well under {} mm", better ? "else " : "",
+                      c.hole_diameter > 0.0 ? "hole_diameter" : "spacing", readable(smallest));
   throw OptionError(c.hole_diameter > 0.0 ? "hole_diameter" : "spacing", text);
 }
 

@@ -88,4 +88,27 @@ TEST(Requests, AWallThinnerThanPrintersMakeIsWarnedOf) {
   EXPECT_FALSE(any_warning_has(estimate(sphere(20.0), o), "thinner than most printers"));
 }
 
+// Numbers in messages are rounded to what matters (issue 47, item 8): "5080 mm", not "5.08e+03 mm";
+// "2.5 times", not "2.441406 times", and rounded up so that following the advice works.
+TEST(Requests, MessagesGiveNumbersAsAPersonReadsThem) {
+  Options o;
+  o.resolution = 33;
+  const Estimate large = estimate(tetrahedron(5080.0), o);
+  EXPECT_TRUE(any_warning_has(large, "the model is 5080 mm across")) << large.warnings.front();
+  for (const std::string& w : large.warnings) EXPECT_EQ(w.find("e+0"), std::string::npos) << w;
+
+  Options tiny;
+  tiny.hole_diameter = 0.5;  // 1000 mm at the hole map's voxel size needs about 5000 grid points
+  const std::string message = error_of([&] { prepare(tetrahedron(1000.0), tiny); });
+  const std::size_t at = message.find(" times larger");
+  ASSERT_NE(at, std::string::npos) << message;
+  const std::string factor =
+      message.substr(message.rfind(' ', at - 1) + 1, at - message.rfind(' ', at - 1) - 1);
+  EXPECT_LE(factor.size(), 4u) << message;  // "2.5", not "2.441406"
+  tiny.hole_diameter *= std::stod(factor);
+  tiny.spacing = 0.0;
+  EXPECT_EQ(error_of([&] { prepare(tetrahedron(1000.0), tiny); }).find("times larger"), std::string::npos)
+      << "following the advice works";
+}
+
 }  // namespace
