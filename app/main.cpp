@@ -87,7 +87,7 @@ int run(int argc, char** argv) {
   const poreshell::Prepared prepared = poreshell::prepare(input, options);
   const poreshell::Estimate cost = estimate_with_flags(prepared);
   if (!command.quiet) print_estimate(input_name(input), cost);
-  ProgressDisplay display(progress_style(command.progress, command.quiet));
+  ProgressDisplay display(progress_style(command.progress, command.quiet), cost.seconds);
   poreshell::RunControl control;
   control.progress = [&display](const poreshell::Progress& p) { display(p); };
   control.max_seconds = command.max_seconds;
