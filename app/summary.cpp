@@ -45,9 +45,11 @@ void print_summary(const poreshell::Options& c, const poreshell::Report& r,
                    std::span<const WrittenFile> others) {
   const auto& d = r.grid_dims;
   if (r.input.kind == "mesh")
-    fmt::print("  input    {} vertices, {} triangles ({} degenerate dropped), {} boundary edges, {:.2f} s\n",
-               r.input.vertices, r.input.triangles, r.input.dropped_degenerate, r.input.boundary_edges,
-               r.seconds.input);
+    fmt::print(
+        "  input    {} vertices, {} triangles ({} degenerate and {} repeated dropped), {} boundary edges, "
+        "{:.2f} s\n",
+        r.input.vertices, r.input.triangles, r.input.dropped_degenerate, r.input.dropped_duplicate,
+        r.input.boundary_edges, r.seconds.input);
   if (r.input.kind == "points" && r.input.point_route == "paper")
     fmt::print("  input    {} points, route paper: {} after densification, {} steps of eq. (3.3), {:.2f} s\n",
                r.input.vertices, r.input.densified_points, r.input.segmentation_iterations, r.seconds.input);

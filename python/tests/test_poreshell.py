@@ -378,3 +378,14 @@ def test_holes_wider_than_the_model_name_the_unit_that_fits():
         poreshell.perforate(CUBE_V / 1000.0, CUBE_F, hole_diameter=8)
     with pytest.raises(ValueError, match=r"holes of 30 mm fit nowhere"):
         poreshell.perforate(CUBE_V, CUBE_F, hole_diameter=30)
+
+
+def test_repeated_triangles_are_dropped_and_counted():
+    """issue 47: an object repeated in place (or a polygon fanned over a few corners) gave thousands of
+    coincident triangles that made every search slow; each is kept once and the rest counted."""
+    v = np.vstack([CUBE_V] * 200)
+    f = np.vstack([CUBE_F + 8 * k for k in range(200)]).astype(np.int32)
+    r = poreshell.perforate(v, f, resolution=25, max_steps=3, threads=2)
+    assert r.report["input"]["triangles"] == 12
+    assert r.report["input"]["dropped_duplicate"] == 12 * 199
+    assert r.report["input"]["boundary_edges"] == 0

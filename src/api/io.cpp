@@ -29,7 +29,10 @@ std::vector<Point> to_points(const std::vector<Vec3>& vertices) {
 
 MeshInput load_mesh(const std::filesystem::path& path, Unit unit, const std::vector<std::string>& fields) {
   MeshInput input;
-  TriangleMesh mesh = read_triangle_mesh(path);
+  MeshInputStats stats;
+  TriangleMesh mesh = read_triangle_mesh(path, &stats);
+  input.dropped_degenerate = stats.dropped_degenerate;
+  input.dropped_duplicate = stats.dropped_duplicate;
   input.mesh.vertices = to_points(mesh.vertices);
   input.mesh.triangles.assign(mesh.triangles.begin(), mesh.triangles.end());
   input.unit = unit;

@@ -188,9 +188,10 @@ void place_mesh(const MeshInput& in, const Options& c, PlacedSurface& placed) {
                   stats.vertices,
                   stats.triangles,
                   stats.boundary_edges,
-                  stats.dropped_degenerate,
+                  in.dropped_degenerate + stats.dropped_degenerate,
                   analyze_topology(mesh).euler_characteristic,
                   1.0};
+  placed.input.dropped_duplicate = in.dropped_duplicate + stats.dropped_duplicate;
   placed.input.units = to_string(in.unit);
   placed.input.millimetres_per_unit = millimetres_per(in.unit) * c.scale;
   fit_to_unit_grid(mesh.vertices, c, "the mesh '" + in.name + "'", in.unit, placed);
