@@ -91,8 +91,9 @@ std::string creation_failure(const fs::path& path, const fs::path& dir, int erro
 
 void probe_output_folder(const fs::path& path) {
   const fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
-  // As long as the first temporary's name (".tmp-PID-0"), so that a name the write cannot use fails here.
-  const fs::path probe(path.string() + ".tmp-" + std::to_string(::getpid()) + "-p");
+  // As long as the first temporary's name (".tmp-PID-0"), so that a name the write cannot use fails here;
+  // not named like one, so that nothing watching for the write's temporary takes the probe for it.
+  const fs::path probe(path.string() + ".chk-" + std::to_string(::getpid()) + "-0");
   const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
   if (fd < 0) {
     const int error = errno;
