@@ -124,6 +124,10 @@ int run(int argc, char** argv) {
     print_summary(
         options, r, result.outputs, report,
         std::array<WrittenFile, 3>{{{holes_csv, "hole table"}, {html, "viewer"}, {png, "picture"}}});
+  // Quiet, the estimate's warnings (a keep-out that touches nothing, a wall thinner than printers make)
+  // are said after the run, on stderr with the run's own.
+  if (command.quiet)
+    for (const std::string& warning : cost.warnings) fmt::print(stderr, "poreshell: warning: {}\n", warning);
   print_warnings(options, r);
   return 0;
 }

@@ -277,6 +277,18 @@ TEST_F(Cli, SolidZoneOptionsAreChecked) {
   EXPECT_EQ(ok.exit_code, 0) << ok.err;
 }
 
+// Issue 47: a request the run cannot honour is said even when quiet (on stderr; stdout stays empty): a
+// keep-out 460 mm from a 20 mm sphere keeps nothing solid.
+TEST_F(Cli, QuietRunsStillWarnOfRequestsThatTouchNothing) {
+  const Outcome o =
+      run("--shape sphere --radius 20 --resolution 41 --max-steps 3 --quiet --keep-out 460,0,0,5 -o X.stl");
+  ASSERT_EQ(o.exit_code, 0) << o.err;
+  EXPECT_TRUE(o.out.empty()) << "--quiet prints nothing on stdout:\n" << o.out;
+  EXPECT_NE(o.err.find("poreshell: warning: --keep-out 460,0,0,5 lies 435 mm outside the model's bounds"),
+            std::string::npos)
+      << o.err;
+}
+
 TEST_F(Cli, OutputInAMissingDirectoryFailsBeforeRunning) {
   const Outcome o = run(kSmallRun + " -o no-such-dir/X.stl --report X.json");
   EXPECT_EQ(o.exit_code, 1);
