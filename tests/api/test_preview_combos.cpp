@@ -28,13 +28,13 @@ Options combo_options(const Combo& c) {
   o.preview = true;
   o.solver = c.solver;
   o.layout = c.layout;
-  o.max_steps = 4;
+  o.max_steps = 2;  // a few steps: the crash came at the solver's set-up
   o.threads = 2;
   if (c.holes_in_mm) {
-    o.hole_diameter = 6.0;
-    o.spacing = 10.0;
+    o.hole_diameter = 8.0;
+    o.spacing = 13.0;
   } else {
-    o.resolution = 41;
+    o.resolution = 33;
   }
   return o;
 }
