@@ -1,20 +1,24 @@
 #include "cli_support.hpp"
 
+#include "command_line.hpp"
+
 #include <fmt/core.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <utility>
 
 namespace fs = std::filesystem;
 
 // The library names options by their API names in backquotes (`hole_diameter`); here they are flags.
 std::string with_flags(std::string message) {
   static const std::map<std::string, std::string> kFlags{
-      {"max_memory_gb", "--max-memory"},    {"tolerance", "--tol"},
-      {"fast_tolerance", "--fast-tol"},     {"inner_tolerance", "--inner-tol"},
-      {"keep_out_boxes", "--keep-out-box"}, {"radius_mm", "--radius"}};
+      {"max_memory_gb", "--max-memory"},        {"tolerance", "--tol"},
+      {"fast_tolerance", "--fast-tol"},         {"inner_tolerance", "--inner-tol"},
+      {"keep_out_boxes", "--keep-out-box"},     {"radius_mm", "--radius"},
+      {"thin_feature_ratio", "--thin-features"}};
   for (std::size_t open = message.find('`'); open != std::string::npos; open = message.find('`', open)) {
     const std::size_t close = message.find('`', open + 1);
     if (close == std::string::npos) break;
@@ -114,6 +118,61 @@ poreshell::Estimate estimate_with_flags(const poreshell::Prepared& prepared) {
   poreshell::Estimate e = poreshell::estimate(prepared);
   for (std::string& warning : e.warnings) warning = with_flags(warning);
   return e;
+}
+
+namespace {
+
+// The file a path names: links, "." and ".." resolved in the part that exists.
+fs::path resolved(const std::string& path) {
+  std::error_code ec;
+  fs::path p = fs::weakly_canonical(fs::absolute(path, ec), ec);
+  return ec ? fs::absolute(path).lexically_normal() : p;
+}
+
+bool same_file(const std::string& a, const std::string& b) {
+  if (resolved(a) == resolved(b)) return true;
+  std::error_code ec;
+  return fs::equivalent(a, b, ec) && !ec;  // hard links
+}
+
+}  // namespace
+
+void check_output_paths(const Command& command) {
+  const poreshell::Options& options = command.options;
+  const bool several = options.iso.size() > 1 && options.hole_diameter <= 0.0 && options.spacing <= 0.0 &&
+                       options.porosity <= 0.0;
+  std::vector<std::pair<std::string, std::string>> outputs;  // flag, path
+  if (!command.output.empty()) {
+    poreshell::check_mesh_path(command.output);
+    const std::size_t levels = several ? options.iso.size() : 1;
+    for (std::size_t i = 0; i < levels; ++i)
+      outputs.emplace_back(
+          "-o",
+          poreshell::output_path_for_level(command.output, several ? options.iso[i] : 0.0, several).string());
+  }
+  for (const auto& [flag, path] : {std::pair<const char*, const std::string&>{"--report", command.report},
+                                   {"--holes", command.holes_csv},
+                                   {"--html", command.html},
+                                   {"--png", command.png}})
+    if (!path.empty()) {
+      poreshell::check_output_path(path);
+      outputs.emplace_back(flag, path);
+    }
+  const std::string& input = !command.mesh.empty() ? command.mesh : command.points;
+  const char* input_flag = !command.mesh.empty() ? "--mesh" : "--points";
+  for (std::size_t i = 0; i < outputs.size(); ++i) {
+    const auto& [flag, path] = outputs[i];
+    if (!input.empty() && same_file(path, input))
+      throw UsageError(
+          fmt::format("{} '{}' is the input file ({} '{}'): it would be overwritten; give {} another path",
+                      flag, path, input_flag, input, flag));
+    for (std::size_t j = 0; j < i; ++j)
+      if (same_file(path, outputs[j].second))
+        throw UsageError(
+            fmt::format("{} '{}' and {} '{}' are the same file: one would overwrite the other; "
+                        "give each output its own path",
+                        outputs[j].first, outputs[j].second, flag, path));
+  }
 }
 
 int usage_error(const std::string& message) {

@@ -31,6 +31,12 @@ std::string input_name(const poreshell::Input& input);
 // The run's estimate, its warnings naming flags.
 poreshell::Estimate estimate_with_flags(const poreshell::Prepared& prepared);
 
+// Every output the command would write, checked before any work (issue 47): each folder exists and takes
+// files, no two outputs are the same file (after resolving links and ".."), and none is the input.
+// Throws poreshell::Error for a path that cannot be written, UsageError for a clash.
+struct Command;
+void check_output_paths(const Command& command);
+
 // One line on stderr and the usage exit code.
 int usage_error(const std::string& message);
 

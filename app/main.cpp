@@ -66,11 +66,7 @@ int run(int argc, char** argv) {
   // Fail before the (possibly minutes long) run rather than after it.
   const bool several = options.iso.size() > 1 && options.hole_diameter <= 0.0 && options.spacing <= 0.0 &&
                        options.porosity <= 0.0;
-  if (!output.empty()) poreshell::check_mesh_path(output);
-  if (!report.empty()) poreshell::check_output_path(report);
-  if (!holes_csv.empty()) poreshell::check_output_path(holes_csv);
-  if (!html.empty()) poreshell::check_output_path(html);
-  if (!png.empty()) poreshell::check_output_path(png);
+  check_output_paths(command);
 
   poreshell::Input input;
   if (!mesh.empty()) {
@@ -91,7 +87,7 @@ int run(int argc, char** argv) {
   const poreshell::Prepared prepared = poreshell::prepare(input, options);
   const poreshell::Estimate cost = estimate_with_flags(prepared);
   if (!command.quiet) print_estimate(input_name(input), cost);
-  ProgressDisplay display(progress_style(command.progress, command.quiet));
+  ProgressDisplay display(progress_style(command.progress, command.quiet), cost.seconds);
   poreshell::RunControl control;
   control.progress = [&display](const poreshell::Progress& p) { display(p); };
   control.max_seconds = command.max_seconds;
@@ -128,6 +124,10 @@ int run(int argc, char** argv) {
     print_summary(
         options, r, result.outputs, report,
         std::array<WrittenFile, 3>{{{holes_csv, "hole table"}, {html, "viewer"}, {png, "picture"}}});
+  // Quiet, the estimate's warnings (a keep-out that touches nothing, a wall thinner than printers make)
+  // are said after the run, on stderr with the run's own.
+  if (command.quiet)
+    for (const std::string& warning : cost.warnings) fmt::print(stderr, "poreshell: warning: {}\n", warning);
   print_warnings(options, r);
   return 0;
 }

@@ -49,6 +49,14 @@ double eta_seconds(double fraction, double stage_seconds) {
   return stage_seconds * (1.0 - fraction) / fraction;
 }
 
+double smoothed_eta(double previous, double seconds_since, double raw, double tau) {
+  if (raw < 0.0) return previous;
+  if (previous < 0.0) return raw;
+  const double counted_down = std::max(0.0, previous - std::max(0.0, seconds_since));
+  const double w = 1.0 - std::exp(-std::max(0.0, seconds_since) / tau);
+  return counted_down + w * (raw - counted_down);
+}
+
 void ProgressDisplay::operator()(const poreshell::Progress& p) {
   switch (style_) {
     case ProgressStyle::none:
@@ -80,6 +88,7 @@ void ProgressDisplay::bar(const poreshell::Progress& p) {
     line_open_ = false;
     stage_ = p.stage;
     stage_start_ = p.seconds;
+    eta_ = -1.0;
   }
   // Redrawn at most ten times a second (the solve reports every step).
   const auto now = std::chrono::steady_clock::now();
@@ -88,10 +97,19 @@ void ProgressDisplay::bar(const poreshell::Progress& p) {
   const double f = std::clamp(p.fraction, 0.0, 1.0);
   const auto filled = static_cast<int>(std::lround(f * kWidth));
   const double elapsed = p.seconds - stage_start_;
-  const double eta = eta_seconds(f, elapsed);
+  // Damped over a quarter of the stage so far (half a second to 20 s): a short stage's first guesses
+  // are soon forgotten, a long one's swings are evened out.
+  eta_ =
+      smoothed_eta(eta_, p.seconds - eta_at_, eta_seconds(f, elapsed), std::clamp(0.25 * elapsed, 0.5, 20.0));
+  eta_at_ = p.seconds;
   std::string line = fmt::format("\r  {:<6} [{}{}] {:3.0f}%  {}", stage_, std::string(filled, '#'),
                                  std::string(kWidth - filled, '.'), 100.0 * f, duration(elapsed));
-  if (eta >= 0.0 && f < 1.0) line += ", about " + duration(eta) + " left";
+  if (eta_ >= 0.0 && f < 1.0) {
+    line += ", about " + duration(eta_) + " left";
+    // The whole run's, from its estimate, where that says more than the stage's.
+    if (const double run_left = run_seconds_ - p.seconds; run_left > eta_ + 1.0)
+      line += " (the run about " + duration(run_left) + ")";
+  }
   if (p.step > 0) line += fmt::format("  (step {})", p.step);
   line += "\x1b[K";  // clear what a longer earlier line left
   fmt::print(stderr, "{}", line);

@@ -12,6 +12,12 @@ std::string yes_no(bool b, const char* yes, const char* no) {
   return b ? yes : no;
 }
 
+// 3 significant digits, whole numbers from 100 up, no exponent (issue 47: "1.11e+03 MB").
+std::string readable(double x) {
+  if (!std::isfinite(x) || std::abs(x) >= 1e15) return fmt::format("{:.3g}", x);
+  return std::abs(x) >= 100.0 ? fmt::format("{:.0f}", x) : fmt::format("{:.3g}", x);
+}
+
 }  // namespace
 
 void print_estimate(const std::string& input_name, const poreshell::Estimate& e) {
@@ -21,10 +27,10 @@ void print_estimate(const std::string& input_name, const poreshell::Estimate& e)
                            : e.seconds < 90.0 ? fmt::format("{:.0f} s", e.seconds)
                                               : fmt::format("{:.1f} min", e.seconds / 60.0);
   const std::string output =
-      e.preview
-          ? fmt::format("the surface painted, {:.3g} MB as PLY ({:.3g} million triangles; preview)",
-                        e.ply_bytes / 1e6, e.triangles / 1e6)
-          : fmt::format("{:.3g} MB as STL ({:.3g} million triangles)", e.stl_bytes / 1e6, e.triangles / 1e6);
+      e.preview ? fmt::format("the surface painted, {} MB as PLY ({} million triangles; preview)",
+                              readable(e.ply_bytes / 1e6), readable(e.triangles / 1e6))
+                : fmt::format("{} MB as STL ({} million triangles)", readable(e.stl_bytes / 1e6),
+                              readable(e.triangles / 1e6));
   fmt::print(
       "  estimate about {:.3g} million band voxels on {} x {} x {} (h = {:.3g} mm): about {} on 2 cores, "
       "peak memory {:.0f} MiB, output {}\n",
@@ -39,9 +45,11 @@ void print_summary(const poreshell::Options& c, const poreshell::Report& r,
                    std::span<const WrittenFile> others) {
   const auto& d = r.grid_dims;
   if (r.input.kind == "mesh")
-    fmt::print("  input    {} vertices, {} triangles ({} degenerate dropped), {} boundary edges, {:.2f} s\n",
-               r.input.vertices, r.input.triangles, r.input.dropped_degenerate, r.input.boundary_edges,
-               r.seconds.input);
+    fmt::print(
+        "  input    {} vertices, {} triangles ({} degenerate and {} repeated dropped), {} boundary edges, "
+        "{:.2f} s\n",
+        r.input.vertices, r.input.triangles, r.input.dropped_degenerate, r.input.dropped_duplicate,
+        r.input.boundary_edges, r.seconds.input);
   if (r.input.kind == "points" && r.input.point_route == "paper")
     fmt::print("  input    {} points, route paper: {} after densification, {} steps of eq. (3.3), {:.2f} s\n",
                r.input.vertices, r.input.densified_points, r.input.segmentation_iterations, r.seconds.input);

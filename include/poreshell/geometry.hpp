@@ -29,6 +29,9 @@ struct MeshInput {
   Unit unit = Unit::mm;
   std::string name = "mesh";  // for the report: a file name, a part name
   std::map<std::string, std::vector<double>> vertex_fields;
+  // Triangles load_mesh dropped from the file (zero area or a repeated vertex; repeats of a triangle),
+  // which the report counts with those the run drops.
+  std::int64_t dropped_degenerate = 0, dropped_duplicate = 0;
 };
 
 // A point cloud; `patches` are optional triangles over the points (the paper's route densifies them).

@@ -99,7 +99,8 @@ struct Report {
     std::int64_t densified_points = 0;
     int segmentation_iterations = 0;
     std::int64_t thin_vertices = 0,
-                 crease_edges = 0;  // kept solid (Options::thin_feature_ratio, crease_angle)
+                 crease_edges = 0;       // kept solid (Options::thin_feature_ratio, crease_angle)
+    std::int64_t dropped_duplicate = 0;  // repeats of a triangle (the same three vertices), dropped
   } input;
   std::array<int, 3> grid_dims{};
   double h = 0.0;  // grid units (the longest side is 1)

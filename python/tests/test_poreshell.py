@@ -318,3 +318,74 @@ def test_help_is_useful():
     doc = poreshell.perforate.__doc__
     for word in ("vertices", "(n, 3)", "mm", "hole_diameter", "progress", "ValueError", "Shape"):
         assert word in doc
+
+
+def _open_sleeve(radius=15.0, length=30.0, segments=24, rings=4):
+    """An open cylinder: vertices (n, 3) and faces (m, 3), as tests/support/test_meshes.hpp's."""
+    a = 2 * np.pi * np.arange(segments) / segments
+    v = np.array([[radius * np.cos(t), radius * np.sin(t), length * r / rings]
+                  for r in range(rings + 1) for t in a])
+    f = []
+    for r in range(rings):
+        for s in range(segments):
+            i, j = r * segments + s, r * segments + (s + 1) % segments
+            f += [[i, j, j + segments], [i, j + segments, i + segments]]
+    return v, np.array(f, dtype=np.int32)
+
+
+def test_mesh_preview_runs_the_equation_with_either_solver():
+    """issue 47: perforate(V, F, preview=True) with the paper's parameters (or layout='paper') solved on
+    the band's surface layer and killed the interpreter. Run in a child so that a crash fails the test
+    instead of ending pytest."""
+    code = (
+        "import numpy as np, poreshell, sys\n"
+        "sys.path.insert(0, %r)\n"
+        "from test_poreshell import _open_sleeve\n"
+        "v, f = _open_sleeve()\n"
+        "for solver in ('fast', 'reference'):\n"
+        "    for extra in (dict(resolution=41), dict(hole_diameter=6, spacing=10, layout='paper')):\n"
+        "        r = poreshell.perforate(v, f, preview=True, solver=solver, max_steps=4, threads=2, **extra)\n"
+        "        assert r.report['solver']['steps'] > 0, r.report['solver']\n"
+        "        assert r.outputs[0].pattern.shape == (len(r.vertices),)\n"
+        "        assert np.isfinite(r.outputs[0].pattern).all()\n"
+        "print('ok')\n" % str(pathlib.Path(__file__).parent)
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=280)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert done.stdout.strip() == "ok"
+
+
+# A closed 20 mm cube, outward triangles.
+CUBE_V = np.array([[0, 0, 0], [20, 0, 0], [20, 20, 0], [0, 20, 0],
+                   [0, 0, 20], [20, 0, 20], [20, 20, 20], [0, 20, 20]], dtype=float)
+CUBE_F = np.array([[0, 2, 1], [0, 3, 2], [4, 5, 6], [4, 6, 7], [0, 1, 5], [0, 5, 4],
+                   [2, 3, 7], [2, 7, 6], [1, 2, 6], [1, 6, 5], [0, 4, 7], [0, 7, 3]], dtype=np.int32)
+
+
+def test_a_far_vertex_is_refused_not_dropped():
+    """issue 47: a corner at 1e20 made needles of its triangles, which were dropped without a word
+    (the cube came out open, exit 0)."""
+    v = CUBE_V.copy()
+    v[7] = 1e20
+    with pytest.raises(ValueError, match=r"vertex 7 .* lies far outside the rest of the mesh"):
+        poreshell.perforate(v, CUBE_F, resolution=33, max_steps=5)
+
+
+def test_holes_wider_than_the_model_name_the_unit_that_fits():
+    """issue 47: a model in metres read as mm (0.02 mm across) with 8 mm holes was told to ask for smaller
+    holes; the unit comes first now."""
+    with pytest.raises(ValueError, match=r"fit nowhere .* say `units` m \(it is then 20 mm across\)"):
+        poreshell.perforate(CUBE_V / 1000.0, CUBE_F, hole_diameter=8)
+    with pytest.raises(ValueError, match=r"holes of 30 mm fit nowhere"):
+        poreshell.perforate(CUBE_V, CUBE_F, hole_diameter=30)
+
+
+def test_repeated_triangles_are_dropped_and_counted():
+    """issue 47: an object repeated in place (or a polygon fanned over a few corners) gave thousands of
+    coincident triangles that made every search slow; each is kept once and the rest counted."""
+    v = np.vstack([CUBE_V] * 200)
+    f = np.vstack([CUBE_F + 8 * k for k in range(200)]).astype(np.int32)
+    r = poreshell.perforate(v, f, resolution=25, max_steps=3, threads=2)
+    assert r.report["input"]["triangles"] == 12
+    assert r.report["input"]["dropped_duplicate"] == 12 * 199
+    assert r.report["input"]["boundary_edges"] == 0

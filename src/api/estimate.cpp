@@ -12,6 +12,7 @@
 #include "band/band.hpp"
 #include "band/memory_estimate.hpp"
 #include "core/error.hpp"
+#include "core/units.hpp"
 #include "geometry/refine.hpp"
 #include "input/placement.hpp"
 #include "pattern/hole_map.hpp"
@@ -67,23 +68,23 @@ constexpr double kLayerPeakFixedBytes = 26.0 * 1024 * 1024, kLayerPeakBytesPerVo
 
 // Thresholds of the warnings: the size a print usually has, and a cost worth a second thought.
 constexpr double kSmallModelMm = 5.0, kLargeModelMm = 3000.0;
-constexpr double kGoodLowMm = 20.0, kGoodHighMm = 500.0;
 constexpr double kLongRunSeconds = 300.0;
 constexpr double kLargeOutputBytes = 300e6;
+// The thinnest wall most printers make (resin, fine nozzles); filament needs about twice it.
+constexpr double kThinWallMm = 0.4;
 
-// The unit that would make a model `longest` input units across 20 to 500 mm, if one does.
-std::optional<Unit> fitting_unit(double longest, Unit current) {
-  for (const Unit u : {Unit::mm, Unit::cm, Unit::inch, Unit::m}) {
-    const double mm = longest * millimetres_per(u);
-    if (u != current && mm >= kGoodLowMm && mm <= kGoodHighMm) return u;
-  }
-  return std::nullopt;
+// "212 million", "85 thousand", "640": a count as a person reads it.
+std::string count_in_words(double n) {
+  if (n >= 1e9) return fmt::format("{:.3g} billion", n / 1e9);
+  if (n >= 1e6) return fmt::format("{:.3g} million", n / 1e6);
+  if (n >= 1e4) return fmt::format("{:.0f} thousand", n / 1e3);
+  return fmt::format("{:.0f}", n);
 }
 
 void size_warnings(const Estimate& e, const Input& input, const Options& o, std::vector<std::string>& out) {
   const double longest_mm = *std::max_element(e.size_mm.begin(), e.size_mm.end());
   if (longest_mm >= kSmallModelMm && longest_mm <= kLargeModelMm) return;
-  std::string text = fmt::format("the model is {:.3g} mm across, {} than most prints", longest_mm,
+  std::string text = fmt::format("the model is {} mm across, {} than most prints", readable(longest_mm),
                                  longest_mm < kSmallModelMm ? "smaller" : "larger");
   const Unit unit = std::visit([](const auto& in) { return in.unit; }, input);
   const bool shape_in_mm =
@@ -91,11 +92,39 @@ void size_warnings(const Estimate& e, const Input& input, const Options& o, std:
   const double longest_units = longest_mm / (millimetres_per(unit) * o.scale);
   const std::optional<Unit> better = shape_in_mm ? std::nullopt : fitting_unit(longest_units, unit);
   if (better && o.scale == 1.0)
-    text += fmt::format("; if its coordinates are in {}, say `units` {} ({:.3g} mm)", to_string(*better),
-                        to_string(*better), longest_units * millimetres_per(*better));
+    text += fmt::format("; if its coordinates are in {}, say `units` {} ({} mm)", to_string(*better),
+                        to_string(*better), readable(longest_units * millimetres_per(*better)));
   else
     text += fmt::format("; `scale` {:.3g} would make it 100 mm", o.scale * 100.0 / longest_mm);
   out.push_back(text);
+}
+
+// A keep-out that misses the model keeps nothing solid: most likely its coordinates are in another frame
+// or unit (issue 47: one 460 mm away reported success).
+void keep_out_warnings(const Options& o, const PlacedSurface& placed, std::vector<std::string>& out) {
+  const Box box = placed.surface->bounds();
+  const Vec3 low = placed.to_mm(box.min), high = placed.to_mm(box.max);
+  const auto gap = [&](const Vec3& a, const Vec3& b) {  // between the box [a, b] and the model's
+    return (low - b).cwiseMax(a - high).cwiseMax(0.0).norm();
+  };
+  const std::string bounds = fmt::format("({:.4g}, {:.4g}, {:.4g}) to ({:.4g}, {:.4g}, {:.4g})", low.x(),
+                                         low.y(), low.z(), high.x(), high.y(), high.z());
+  for (const KeepOutSphere& k : o.keep_out) {
+    const Vec3 c(k.centre[0], k.centre[1], k.centre[2]);
+    if (const double d = gap(c, c) - k.radius; d > 0.0)
+      out.push_back(
+          fmt::format("`keep_out` {:g},{:g},{:g},{:g} lies {} mm outside the model's bounds {} "
+                      "and keeps nothing solid; give it in the input's frame, in mm",
+                      c.x(), c.y(), c.z(), k.radius, readable(d), bounds));
+  }
+  for (const KeepOutBox& k : o.keep_out_boxes) {
+    const Vec3 a(k.min[0], k.min[1], k.min[2]), b(k.max[0], k.max[1], k.max[2]);
+    if (const double d = gap(a.cwiseMin(b), a.cwiseMax(b)); d > 0.0)
+      out.push_back(
+          fmt::format("`keep_out_boxes` {:g},{:g},{:g},{:g},{:g},{:g} lies {} mm outside the "
+                      "model's bounds {} and keeps nothing solid; give it in the input's frame, in mm",
+                      a.x(), a.y(), a.z(), b.x(), b.y(), b.z(), readable(d), bounds));
+  }
 }
 
 // The estimate from the input as the run will place it.
@@ -135,6 +164,14 @@ Estimate estimate_prepared(const Input& input, const PreparedInput& prepared) {
                               ? std::min(e.voxel_size_mm, wall_mm / kMinCellsAcrossWall)
                               : e.voxel_size_mm;
   e.triangles = kTrianglesPerShellCell * band.voxels * std::pow(e.voxel_size_mm / shell_mm, 2);
+  // A wall thinner than printers make is meshed at a third of it: say both before the run (issue 47:
+  // `wall` 0.2 was estimated at 212 million triangles without a word).
+  if (options.mode == Mode::shell && options.wall > 0.0 && options.wall < kThinWallMm && !options.preview)
+    e.warnings.push_back(
+        fmt::format("a `wall` of {:.2g} mm is thinner than most printers make ({:.2g} mm and "
+                    "up), and is meshed at {:.2g} mm: about {} triangles; ask for a "
+                    "thicker `wall`",
+                    options.wall, kThinWallMm, shell_mm, count_in_words(e.triangles)));
   if (const auto target = static_cast<double>(options.max_triangles);
       !options.preview && target > 0 && e.triangles > target) {
     e.seconds += kSecondsPerCollapse * 0.5 * (e.triangles - target);
@@ -170,10 +207,11 @@ Estimate estimate_prepared(const Input& input, const PreparedInput& prepared) {
     if (extent >= 0.1 * longest_mm) smallest_mm = std::min(smallest_mm, extent);
   const double hole = plan ? plan->diameter : 0.0;
   if (hole > smallest_mm / 3.0)
-    e.warnings.push_back(fmt::format(
-        "holes of {:.3g} mm are more than a third of the model's smallest extent ({:.3g} mm): few holes "
-        "fit; ask for a smaller `hole_diameter`",
-        hole, smallest_mm));
+    e.warnings.push_back(
+        fmt::format("holes of {} mm are more than a third of the model's smallest extent ({} mm): few holes "
+                    "fit; ask for a smaller `hole_diameter`",
+                    readable(hole), readable(smallest_mm)));
+  keep_out_warnings(given, placed, e.warnings);
   if (e.seconds > kLongRunSeconds)
     e.warnings.push_back(
         fmt::format("this run may take about {:.0f} minutes; a coarser `resolution` or "

@@ -29,7 +29,10 @@ std::vector<Point> to_points(const std::vector<Vec3>& vertices) {
 
 MeshInput load_mesh(const std::filesystem::path& path, Unit unit, const std::vector<std::string>& fields) {
   MeshInput input;
-  TriangleMesh mesh = read_triangle_mesh(path);
+  MeshInputStats stats;
+  TriangleMesh mesh = read_triangle_mesh(path, &stats);
+  input.dropped_degenerate = stats.dropped_degenerate;
+  input.dropped_duplicate = stats.dropped_duplicate;
   input.mesh.vertices = to_points(mesh.vertices);
   input.mesh.triangles.assign(mesh.triangles.begin(), mesh.triangles.end());
   input.unit = unit;
@@ -81,6 +84,7 @@ void check_output_path(const std::filesystem::path& path) {
                                    "' does not exist; create it or choose another path");
   if (std::filesystem::is_directory(path, ec))
     throw Error(ErrorCode::io, "cannot write '" + path.string() + "': it is a directory; give a file name");
+  probe_output_folder(path);
 }
 
 void check_mesh_path(const std::filesystem::path& path) {

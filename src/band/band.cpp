@@ -315,6 +315,7 @@ NarrowBand build_band(const Surface& surface, const Grid& grid, const BandOption
     band_neighbours(band.keys_, grid, band.neighbors_);
   };
   if (options.surface_layer) {
+    band.surface_layer_ = true;
     take_voxels();
   } else {
     // Closure: every corner of every ghost's interpolation cell must be a band voxel. Corners are within

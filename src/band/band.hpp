@@ -114,6 +114,8 @@ class NarrowBand {
   std::span<const std::int32_t> neighbor_table() const { return neighbors_; }
   std::span<const GhostStencil> stencils() const { return stencils_; }
   const BandStats& stats() const { return stats_; }
+  // Built as a surface layer (BandOptions::surface_layer): nothing may be solved on it.
+  bool surface_layer() const { return surface_layer_; }
 
   // Band index of a grid point, or -1 if it is not a band voxel (binary search; build-time use).
   std::int64_t find(const Coord& c) const;
@@ -148,6 +150,7 @@ class NarrowBand {
   std::vector<std::int32_t> neighbors_;
   std::vector<GhostStencil> stencils_;
   BandStats stats_;
+  bool surface_layer_ = false;
 };
 
 // Closest point on `surface` of x: exact where the rule and the surface allow, else the paper's formula

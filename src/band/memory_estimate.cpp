@@ -1,9 +1,11 @@
 #include "band/memory_estimate.hpp"
 
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <string>
 
@@ -23,6 +25,18 @@ double available_memory_bytes() {
   while (meminfo >> key >> kib >> unit)
     if (key == "MemAvailable:") return kib * 1024.0;
   return static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE));
+}
+
+// What is left of the address space under RLIMIT_AS (ulimit -v), or infinity without one. A run
+// estimated above it would only fail after minutes, with the mesh half built (issue 47).
+double address_space_left_bytes() {
+  rlimit limit{};
+  if (getrlimit(RLIMIT_AS, &limit) != 0 || limit.rlim_cur == RLIM_INFINITY)
+    return std::numeric_limits<double>::infinity();
+  std::ifstream statm("/proc/self/statm");
+  double pages = 0.0;  // the address space in use now
+  statm >> pages;
+  return static_cast<double>(limit.rlim_cur) - pages * static_cast<double>(sysconf(_SC_PAGE_SIZE));
 }
 
 }  // namespace
@@ -46,7 +60,10 @@ BandEstimate estimate_band(const Surface& surface, const Box& domain, int resolu
 
 void check_band_fits(const Surface& surface, const Box& domain, int resolution, double limit_gb, double h_mm,
                      bool holes_in_mm) {
-  const double limit = limit_gb > 0.0 ? limit_gb * 1e9 : available_memory_bytes();
+  const double address_space = address_space_left_bytes();
+  const bool by_address_space = !(limit_gb > 0.0) && address_space < available_memory_bytes();
+  const double limit =
+      limit_gb > 0.0 ? limit_gb * 1e9 : (by_address_space ? address_space : available_memory_bytes());
   const BandEstimate estimate = estimate_band(surface, domain, resolution);
   if (estimate.peak_bytes <= limit) return;
   const double shrink = std::sqrt(limit / estimate.peak_bytes);
@@ -54,7 +71,10 @@ void check_band_fits(const Surface& surface, const Box& domain, int resolution, 
   message.precision(3);
   message << "this run needs about " << estimate.peak_bytes / 1e9 << " GB (about " << estimate.voxels / 1e6
           << " million band voxels at h = " << h_mm << " mm), more than the " << limit / 1e9 << " GB "
-          << (limit_gb > 0.0 ? "allowed by `max_memory_gb`" : "available") << ": ";
+          << (limit_gb > 0.0     ? "allowed by `max_memory_gb`"
+              : by_address_space ? "left under the address-space limit (ulimit -v)"
+                                 : "available")
+          << ": ";
   if (!holes_in_mm)
     message << "use `resolution` " << static_cast<int>(1 + (resolution - 1) * shrink)
             << " or less, or `voxel_size` " << h_mm / shrink << " mm or more";

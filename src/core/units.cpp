@@ -1,5 +1,9 @@
 #include "core/units.hpp"
 
+#include <fmt/format.h>
+
+#include <cmath>
+
 namespace poreshell {
 
 double millimetres_per(Unit unit) {
@@ -14,6 +18,21 @@ double millimetres_per(Unit unit) {
       break;
   }
   return 1.0;
+}
+
+std::optional<Unit> fitting_unit(double longest, Unit current) {
+  for (const Unit u : {Unit::mm, Unit::cm, Unit::inch, Unit::m}) {
+    const double mm = longest * millimetres_per(u);
+    if (u != current && mm >= kGoodLowMm && mm <= kGoodHighMm) return u;
+  }
+  return std::nullopt;
+}
+
+std::string readable(double x) {
+  const double a = std::abs(x);
+  if (!std::isfinite(x) || a >= 1e15 || (a < 1e-3 && a > 0.0)) return fmt::format("{:.3g}", x);
+  if (a >= 100.0) return fmt::format("{:.0f}", x);
+  return fmt::format("{:.3g}", x);
 }
 
 const char* to_string(Unit unit) {

@@ -2,7 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <variant>
@@ -33,7 +35,7 @@ int resolution_for(const Options& c, double mm_per_unit, double longest_extent, 
                       "holes this small need " + points +
                           " grid points along the model's longest side (at most 2048): ask for holes and "
                           "spacing " +
-                          std::to_string(n / 2048) + " times larger or more");
+                          fmt::format("{:g}", std::ceil(10.0 * n / 2048) / 10.0) + " times larger or more");
   if (n > 2048)
     throw OptionError("voxel_size", "`voxel_size` needs " + points +
                                         " grid points along the longest side (at most 2048): choose a larger "
@@ -50,7 +52,34 @@ int resolution_for(const Options& c, double mm_per_unit, double longest_extent, 
 
 // Scales and centres `vertices` (a mesh's or a point cloud's) into the paper's frame, with padding, and
 // sets the placement's resolution, scale, centre and domain.
-void fit_to_unit_grid(std::vector<Vec3>& vertices, const Options& c, const std::string& what,
+// Holes as large as the model's smallest extent (a flat part's thickness, under a tenth of its length,
+// is not one) fit nowhere: refused before the run rather than giving no holes, with the unit that would
+// make the model a print's size, if one does (issue 47: the bunny's metres read as millimetres were told
+// to ask for smaller holes).
+void check_holes_fit(const Options& c, const Vec3& extent_mm, double mm_per_unit, Unit unit,
+                     const std::string& what) {
+  const double hole = c.hole_diameter > 0.0 ? c.hole_diameter : c.spacing;
+  if (!(hole > 0.0)) return;
+  const double longest = extent_mm.maxCoeff();
+  double smallest = longest;
+  for (int a = 0; a < 3; ++a)
+    if (extent_mm[a] >= 0.1 * longest) smallest = std::min(smallest, extent_mm[a]);
+  if (hole < smallest) return;
+  const char* asked = c.hole_diameter > 0.0 ? "holes" : "a spacing";
+  std::string text = fmt::format("{} is {} mm across at its narrowest, and {} of {} mm fit nowhere on it",
+                                 what, readable(smallest), asked, readable(hole));
+  const double longest_units = longest / mm_per_unit;
+  const std::optional<Unit> better = c.scale == 1.0 ? fitting_unit(longest_units, unit) : std::nullopt;
+  if (better)
+    text += fmt::format("; if its coordinates are in {}, say `units` {} (it is then {} mm across)",
+                        to_string(*better), to_string(*better),
+                        readable(longest_units * millimetres_per(*better)));
+  text += fmt::format("; {}ask for `{}` well under {} mm", better ? "else " : "",
+                      c.hole_diameter > 0.0 ? "hole_diameter" : "spacing", readable(smallest));
+  throw OptionError(c.hole_diameter > 0.0 ? "hole_diameter" : "spacing", text);
+}
+
+void fit_to_unit_grid(std::vector<Vec3>& vertices, const Options& c, const std::string& what, Unit unit,
                       PlacedSurface& placed) {
   if (vertices.empty()) throw InputError(what + " has no vertices");
   Box box{vertices.front(), vertices.front()};
@@ -71,6 +100,8 @@ void fit_to_unit_grid(std::vector<Vec3>& vertices, const Options& c, const std::
                     "makes ({:g} mm to {:g} mm); check `units` (m, cm, mm, inch) or rescale the model",
                     what, longest_mm, longest, longest_mm > kLargestModelMm ? "larger" : "smaller",
                     kSmallestModelMm, kLargestModelMm));
+  check_holes_fit(c, (box.max - box.min) * placed.input.millimetres_per_unit,
+                  placed.input.millimetres_per_unit, unit, what);
   placed.resolution = resolution_for(c, placed.input.millimetres_per_unit, longest, kMeshPaddingCells);
   const double h = 1.0 / (placed.resolution - 1);
   const double scale = (1.0 - 2 * kMeshPaddingCells * h) / longest;
@@ -114,7 +145,7 @@ void place_points(const PointsInput& in, const Options& c, PlacedSurface& placed
   placed.input.units = to_string(in.unit);
   placed.input.millimetres_per_unit = millimetres_per(in.unit) * c.scale;
   check_not_collinear(points, "the point cloud '" + in.name + "'");
-  fit_to_unit_grid(points, c, "the point cloud '" + in.name + "'", placed);
+  fit_to_unit_grid(points, c, "the point cloud '" + in.name + "'", in.unit, placed);
   if (c.point_route == PointRoute::direct) {
     placed.surface = std::make_unique<SplatSurface>(std::move(points));
     return;
@@ -157,12 +188,13 @@ void place_mesh(const MeshInput& in, const Options& c, PlacedSurface& placed) {
                   stats.vertices,
                   stats.triangles,
                   stats.boundary_edges,
-                  stats.dropped_degenerate,
+                  in.dropped_degenerate + stats.dropped_degenerate,
                   analyze_topology(mesh).euler_characteristic,
                   1.0};
+  placed.input.dropped_duplicate = in.dropped_duplicate + stats.dropped_duplicate;
   placed.input.units = to_string(in.unit);
   placed.input.millimetres_per_unit = millimetres_per(in.unit) * c.scale;
-  fit_to_unit_grid(mesh.vertices, c, "the mesh '" + in.name + "'", placed);
+  fit_to_unit_grid(mesh.vertices, c, "the mesh '" + in.name + "'", in.unit, placed);
   placed.surface = std::make_unique<MeshSurface>(mesh);
   placed.mesh = std::move(mesh);
 }

@@ -30,6 +30,7 @@ struct InputSummary {
   std::int64_t densified_points = 0;                 // points, paper route: after Fig. 8's densification
   int segmentation_iterations = 0;                   // points, paper route: explicit steps of eq. (3.3)
   std::int64_t thin_vertices = 0, crease_edges = 0;  // features kept solid (input/features.hpp)
+  std::int64_t dropped_duplicate = 0;                // repeats of a triangle (io/mesh_io.hpp)
 };
 
 // The surface in grid coordinates; `to_mm` maps results back to millimetres.

@@ -1,9 +1,11 @@
 #include "io/atomic_file.hpp"
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <array>
 #include <atomic>
+#include <cerrno>
 #include <cstring>
 #include <fstream>
 #include <string>
@@ -66,7 +68,41 @@ class LiveRegistration {
   LiveTemporary* slot_ = nullptr;
 };
 
+// Why a file could not be created in `dir`, from open(2)'s errno, and what to do.
+std::string creation_failure(const fs::path& path, const fs::path& dir, int error) {
+  const std::string in = "cannot create a file in '" + dir.string() + "' to write '" + path.string() + "'";
+  switch (error) {
+    case ENAMETOOLONG:
+      return "cannot write '" + path.string() + "': its file name is too long for the file system (" +
+             std::to_string(path.filename().string().size()) +
+             " bytes, and the temporary it is written to adds about 16); choose a shorter name";
+    case EROFS:
+      return in + ": the file system is read-only; choose another folder";
+    case ENOSPC:
+    case EDQUOT:
+      return in + ": the disk is full (or the quota reached); free some space or choose another folder";
+    default:
+      return in + (error != 0 ? " (" + std::string(std::strerror(error)) + ")" : std::string()) +
+             "; check that the directory is writable";
+  }
+}
+
 }  // namespace
+
+void probe_output_folder(const fs::path& path) {
+  const fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
+  // As long as the first temporary's name (".tmp-PID-0"), so that a name the write cannot use fails here;
+  // not named like one, so that nothing watching for the write's temporary takes the probe for it.
+  const fs::path probe(path.string() + ".chk-" + std::to_string(::getpid()) + "-0");
+  const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+  if (fd < 0) {
+    const int error = errno;
+    if (error == EEXIST) return;  // a leftover of this process's name: the folder takes files
+    throw InputError(creation_failure(path, dir, error));
+  }
+  ::close(fd);
+  ::unlink(probe.c_str());
+}
 
 void write_atomically(const fs::path& path, const std::function<void(std::ostream&)>& write, bool binary) {
   const fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
@@ -83,9 +119,7 @@ void write_atomically(const fs::path& path, const std::function<void(std::ostrea
     {
       std::ofstream out(
           tmp, binary ? std::ios::out | std::ios::trunc | std::ios::binary : std::ios::out | std::ios::trunc);
-      if (!out)
-        throw InputError("cannot create a file in '" + dir.string() + "' to write '" + path.string() +
-                         "'; check that the directory is writable");
+      if (!out) throw InputError(creation_failure(path, dir, errno));
       write(out);
       out.flush();
       if (!out) throw InputError("writing '" + path.string() + "' failed (disk full?); nothing was written");

@@ -106,8 +106,10 @@ TriangleMesh read_stl_ascii_bytes(std::string_view bytes, const std::string& nam
       mesh.vertices.push_back(p);
     } else if (equals_lower(keyword, "endloop")) {
       if (!in_loop) bad_stl_line(name, lines.number(), "'endloop' without 'outer loop'");
-      if (loop.size() < 3)
-        bad_stl_line(name, lines.number(), fmt::format("a facet with {} vertices (3 needed)", loop.size()));
+      // A facet is a triangle: more corners are not a polygon STL knows (issue 47: read as a quad).
+      if (loop.size() != 3)
+        bad_stl_line(name, lines.number(),
+                     fmt::format("a facet with {} vertices (an STL facet has exactly 3)", loop.size()));
       append_fan(loop, mesh);
       in_loop = false;
     } else {
@@ -199,6 +201,9 @@ TriangleMesh read_obj_bytes(std::string_view bytes, const std::string& name) {
   std::vector<std::int32_t> corners;
   text::Lines lines(bytes);
   for (std::string_view line; lines.next(line);) {
+    // A NUL byte is binary data, not text: the line's keyword would be unknown and its face lost.
+    if (line.find('\0') != std::string_view::npos)
+      bad_line("OBJ", name, lines.number(), "a NUL byte (binary data in a text file)");
     std::string_view rest = line;
     const std::string_view keyword = text::next_token(rest);
     if (keyword == "v") {

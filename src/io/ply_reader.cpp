@@ -2,8 +2,10 @@
 
 // The body is walked row by row, element by element, through a cursor that reads one value of a given
 // type (text tokens or binary, either byte order). Only the vertex and face elements are kept; other
-// elements are read through and dropped, since binary rows have no markers to skip by. ASCII data is
-// read as a stream of tokens, not line by line, as other PLY readers do.
+// elements are read through and dropped, since binary rows have no markers to skip by. ASCII rows are
+// one a line, as the format says: a row short of a value is refused with its line rather than completed
+// from the next line, and so is one with values left over (issue 47). Data after the last element is
+// refused too: the header's counts would then not describe the file.
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>  // join
@@ -28,19 +30,58 @@ struct BadValue {
 
 class AsciiCursor {
  public:
-  explicit AsciiCursor(std::string_view data) : rest_(data) {}
+  AsciiCursor(std::string_view data, std::size_t first_line) : rest_(data), line_number_(first_line - 1) {}
 
+  // Moves to the next line that holds a value (blank lines are passed over).
+  void begin_row() {
+    do {
+      line_ = next_line();
+    } while (blank(line_) && !rest_.empty());
+  }
   double read(ScalarType /*type*/) {
-    const std::string_view token = text::next_token(rest_);
-    if (token.empty()) throw EndOfData{};
+    const std::string_view token = text::next_token(line_);
+    if (token.empty()) {
+      // The data's end is a truncated file; a line's end before the row's is a malformed row.
+      if (blank(rest_)) throw EndOfData{};
+      throw BadValue{
+          fmt::format("line {} ends before the row does (the header's properties ask for more "
+                      "values than the line has)",
+                      line_number_)};
+    }
     double value = 0.0;
     if (!text::parse_double(token, value))
-      throw BadValue{fmt::format("'{}' is not a number", text::quote(token))};
+      throw BadValue{fmt::format("'{}' is not a number (line {})", text::quote(token), line_number_)};
     return value;
+  }
+  void end_row() {
+    const std::string_view extra = text::next_token(line_);
+    if (!extra.empty())
+      throw BadValue{fmt::format("line {} has values after the row's last property ('{}')", line_number_,
+                                 text::quote(extra))};
+  }
+  // What is left after the last element: none, or where it starts.
+  std::optional<std::string> leftover() {
+    while (!rest_.empty() || !line_.empty()) {
+      const std::string_view token = text::next_token(line_);
+      if (!token.empty()) return fmt::format("'{}' on line {}", text::quote(token), line_number_);
+      if (rest_.empty()) break;
+      line_ = next_line();
+    }
+    return std::nullopt;
   }
 
  private:
-  std::string_view rest_;
+  static bool blank(std::string_view text) { return text.find_first_not_of(" \t\r\n\v\f") == text.npos; }
+  std::string_view next_line() {
+    const std::size_t end = rest_.find('\n');
+    const std::string_view line = rest_.substr(0, end);
+    rest_.remove_prefix(end == std::string_view::npos ? rest_.size() : end + 1);
+    ++line_number_;
+    return line;
+  }
+
+  std::string_view rest_, line_;
+  std::size_t line_number_;
 };
 
 class BinaryCursor {
@@ -48,6 +89,12 @@ class BinaryCursor {
   BinaryCursor(std::string_view data, bool big_endian)
       : rest_(data), swap_(big_endian != (std::endian::native == std::endian::big)) {}
 
+  void begin_row() {}
+  void end_row() {}
+  std::optional<std::string> leftover() const {
+    if (rest_.empty()) return std::nullopt;
+    return fmt::format("{} bytes", rest_.size());
+  }
   double read(ScalarType type) {
     const std::size_t n = scalar_bytes(type);
     if (rest_.size() < n) throw EndOfData{};
@@ -232,6 +279,11 @@ void read_face(Cursor& cursor, const Layout& layout, std::size_t row, const std:
       continue;
     }
     const std::size_t n = read_count(cursor, properties[k].count_type);
+    if (n < 3)
+      throw InputError(
+          fmt::format("PLY file '{}': face {} (counting from 0) has {} vertices, and a face "
+                      "needs at least 3; the file is corrupt, re-export it",
+                      name, row, n));
     std::array<std::int32_t, 3> fan{};  // first, previous, current: a polygon becomes a fan
     for (std::size_t i = 0; i < n; ++i) {
       const double index = cursor.read(properties[k].type);
@@ -256,20 +308,20 @@ Data read_body(Cursor& cursor, const Header& header, const Layout& layout, const
   Data out;
   out.vertices.reserve(layout.vertex->count);  // bounded by the data's size (check_counts)
   if (layout.value) out.values.reserve(layout.vertex->count);
-  std::size_t needed = layout.face != nullptr ? 2 : 1;
   for (const Element& element : header.elements) {
-    if (needed == 0) break;
     const bool is_vertex = &element == layout.vertex, is_face = &element == layout.face;
     std::size_t row = 0;
     try {
       // An element without properties has nothing to read, however many rows it claims.
       for (; row < element.count && !element.properties.empty(); ++row) {
+        cursor.begin_row();
         if (is_vertex)
           read_vertex(cursor, layout, out);
         else if (is_face)
           read_face(cursor, layout, row, name, out);
         else
           for (const Property& p : element.properties) skip(cursor, p);
+        cursor.end_row();
       }
     } catch (const EndOfData&) {
       throw InputError(fmt::format(
@@ -281,8 +333,12 @@ Data read_body(Cursor& cursor, const Header& header, const Layout& layout, const
           "PLY file '{}', '{}' entry {} (counting from 0): {}; the data is malformed, re-export the file",
           name, text::quote(element.name), row, bad.what));
     }
-    if (is_vertex || is_face) --needed;
   }
+  if (const auto extra = cursor.leftover())
+    throw InputError(
+        fmt::format("PLY file '{}' has data after its last element ({}): its header's counts do "
+                    "not describe the file; re-export the file",
+                    name, *extra));
   return out;
 }
 
@@ -294,7 +350,9 @@ Data read(std::string_view bytes, const std::string& name, const std::string& pr
   const std::string_view data = bytes.substr(header.bytes);
   check_counts(header, layout, data.size(), name);
   if (header.format == Format::ascii) {
-    AsciiCursor cursor(data);
+    // The data's first line: the header's lines plus one.
+    AsciiCursor cursor(
+        data, 1 + static_cast<std::size_t>(std::count(bytes.begin(), bytes.begin() + header.bytes, '\n')));
     return read_body(cursor, header, layout, name);
   }
   BinaryCursor cursor(data, header.format == Format::binary_big_endian);

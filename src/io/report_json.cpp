@@ -194,6 +194,7 @@ json to_json(const Report& r, std::span<const Output> outputs) {
         {"triangles", r.input.triangles},
         {"boundary_edges", r.input.boundary_edges},
         {"dropped_degenerate", r.input.dropped_degenerate},
+        {"dropped_duplicate", r.input.dropped_duplicate},
         {"euler_characteristic", r.input.euler_characteristic},
         {"scale_to_grid", r.input.scale_to_grid},
         {"point_route", r.input.point_route},  // points only: direct | paper

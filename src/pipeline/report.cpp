@@ -58,7 +58,8 @@ Report make_report(const PipelineResult& r, const Options& options) {
                   in.densified_points,
                   in.segmentation_iterations,
                   in.thin_vertices,
-                  in.crease_edges};
+                  in.crease_edges,
+                  in.dropped_duplicate};
   const double mm_per_grid = in.millimetres_per_unit / in.scale;
   report.grid_dims = r.grid_dims;
   report.h = r.h;

@@ -1,13 +1,17 @@
 #include "solver/solve.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
 #include <numeric>
+#include <stdexcept>
 
 #include "core/error.hpp"
 #include "core/heap.hpp"
+#include "core/units.hpp"
 #include "pattern/layout.hpp"
 #include "pattern/pattern.hpp"
 #include "pattern/solid_zones.hpp"
@@ -61,6 +65,15 @@ std::vector<double> even_layout_start(const PatternPlan& plan, const PlacedSurfa
       placed.mesh ? boundary_segments(*placed.mesh) : std::vector<Segment>{}, pore_radius + 0.5 * epsilon);
   if (!mean) centres = merge_overlapping_centres(std::move(centres), 2.0 * pore_radius, *placed.surface);
   result.layout_holes = static_cast<std::int64_t>(centres.size());
+  // A run that would write a part without holes, asked for holes, says so instead (issue 47).
+  if (centres.empty())
+    throw OptionError(
+        "hole_diameter",
+        fmt::format("no hole of {} mm at {} mm spacing fits on the surface's free part: open "
+                    "edges, rims, keep-outs, creases and parts thinner than `thin_feature_ratio` "
+                    "holes stay solid; ask for smaller `hole_diameter` and `spacing`, or less "
+                    "solid (`thin_feature_ratio` 0 keeps no thin part solid)",
+                    plan.diameter, plan.spacing));
   // tanh((R - r) / (sqrt 2 eps)) = level at r = D / 2.
   const double radius = pore_radius + std::sqrt(2.0) * epsilon * std::atanh(plan.level);
   return disc_field(band, centres, radius, epsilon, weight, mean);
@@ -172,6 +185,9 @@ SolveResult solve_pattern(const Options& c, const std::optional<PatternPlan>& pl
       return result;
     }
   }
+  // A layer has no ghosts and -1 for its outer neighbours: the solvers would read and write past it.
+  if (band.surface_layer())
+    throw std::logic_error("solve_pattern: the band is a surface layer (builds_surface_layer), not solvable");
   monitor.check();
   if (coarse_grid) {
     CoarseStartOptions coarse{[&](const NarrowBand& b) { return level_start(b, zone_weight(b), true); },

@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <array>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
@@ -159,6 +160,52 @@ std::string package_3mf(const std::string& resources, const std::string& build) 
       "xmlns=\"http://schemas.microsoft.com/3dmanufacturing/core/2015/02\"><resources>" +
       resources + "</resources><build>" + build + "</build></model>\n";
   return zip({{"[Content_Types].xml", types}, {"_rels/.rels", rels}, {"3D/3dmodel.model", model}});
+}
+
+// A closed 20 mm cube (8 corners, 12 triangles, outward), its corner 7 moved to `far` on each axis.
+struct Cube {
+  std::vector<std::array<double, 3>> v;
+  std::vector<std::array<int, 3>> t = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
+                                       {2, 3, 7}, {2, 7, 6}, {1, 2, 6}, {1, 6, 5}, {0, 4, 7}, {0, 7, 3}};
+  explicit Cube(double far) {
+    for (int k = 0; k < 8; ++k)
+      v.push_back({20.0 * (k == 1 || k == 2 || k == 5 || k == 6),
+                   20.0 * (k == 2 || k == 3 || k == 6 || k == 7), 20.0 * (k >= 4)});
+    v[7] = {far, far, far};
+  }
+};
+
+std::string far_cube_obj(double far) {
+  const Cube c(far);
+  std::ostringstream s;
+  s.precision(17);
+  for (const auto& p : c.v) s << "v " << p[0] << ' ' << p[1] << ' ' << p[2] << '\n';
+  for (const auto& t : c.t) s << "f " << t[0] + 1 << ' ' << t[1] + 1 << ' ' << t[2] + 1 << '\n';
+  return s.str();
+}
+
+std::string far_cube_stl(float far) {
+  const Cube c(far);
+  std::string s = std::string(80, ' ') + u32(12);
+  for (const auto& t : c.t) {
+    s += f32s({0, 0, 0});
+    for (int k : t) s += f32s({float(c.v[k][0]), float(c.v[k][1]), float(c.v[k][2])});
+    s += std::string(2, '\0');
+  }
+  return s;
+}
+
+std::string far_cube_ply(double far) {
+  const Cube c(far);
+  std::string s =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 8\nproperty double x\nproperty double y\n"
+      "property double z\nelement face 12\nproperty list uchar int vertex_indices\nend_header\n";
+  for (const auto& p : c.v) s.append(reinterpret_cast<const char*>(p.data()), 24);
+  for (const auto& t : c.t) {
+    s += '\3';
+    for (int k : t) s += u32(static_cast<std::uint32_t>(k));
+  }
+  return s;
 }
 
 std::string repeated(const std::string& line, std::size_t n) {
@@ -372,6 +419,51 @@ std::vector<Row> rows() {
        "the directory '/nonexistent-poreshell' does not exist", "create it or choose another", kOptionRun},
       {"output folder cannot be written", "", "", "--resolution 33 -o /proc/out.stl", 1,
        "cannot create a file in '/proc'", "check that the directory is writable", kOptionRun},
+      // Issue 47: geometry a reader would drop without a word is refused, naming the line or element.
+      {"vertex at 1e16 mm (OBJ cube)", "far.obj", far_cube_obj(1e16), "--mesh FILE", 1,
+       "vertex 7 (counting from 0, as imported) at (1e+16", "remove or fix the vertex"},
+      {"vertex at 3.4e38 (binary STL cube)", "far.stl", far_cube_stl(3.4e38f), "--mesh FILE", 1,
+       "lies far outside the rest of the mesh", "remove or fix the vertex"},
+      {"vertex at 1e308 (binary PLY cube)", "far.ply", far_cube_ply(1e308), "--mesh FILE", 1,
+       "vertex 7 (counting from 0, as imported) at (1e+308", "remove or fix the vertex"},
+      {"ASCII PLY face line short of an index", "s.ply", kPlyHead + kPlyVertices + "3 0 2\n3 0 1 3\n3 0 3 2\n3 1 2 3\n",
+       "--mesh FILE", 1, "'face' entry 0 (counting from 0): line 14 ends before the row does", "re-export"},
+      {"ASCII PLY face line with a value too many", "x.ply",
+       kPlyHead + kPlyVertices + "3 0 2 1\n3 0 1 3 2\n3 0 3 2\n3 1 2 3\n", "--mesh FILE", 1,
+       "line 15 has values after the row's last property", "re-export"},
+      {"ASCII PLY with data after its last element", "t.ply", kPlyHead + kPlyVertices + kPlyFaces + "3 0 1 2\n",
+       "--mesh FILE", 1, "has data after its last element ('3' on line 18)", "re-export"},
+      {"binary PLY face of 0 vertices", "z.ply", [] {
+         std::string s = little_endian_tet_ply("binary_little_endian");
+         s.replace(s.find("element face 4"), 14, "element face 5");
+         return s + '\0';
+       }(),
+       "--mesh FILE", 1, "face 4 (counting from 0) has 0 vertices", "re-export"},
+      {"OBJ line starting with a NUL byte", "nul.obj", tet_obj("10") + std::string("\0f 1 2 3\n", 9), "--mesh FILE",
+       1, "line 9: a NUL byte", "re-export"},
+      {"ASCII STL facet with 4 vertices", "q.stl",
+       "solid q\nfacet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 10 0 0\nvertex 10 10 0\nvertex 0 10 "
+       "0\nendloop\nendfacet\nendsolid q\n",
+       "--mesh FILE", 1, "line 8: a facet with 4 vertices", "re-export"},
+      // Issue 47: a request that cannot be met says so before the run, naming what to change.
+      {"holes larger than the model (metres read as mm)", "m.obj", tet_obj("0.15"), "--mesh FILE --hole-diameter 8",
+       1, "fit nowhere on it", "say --units m", kOptionRun},
+      {"holes wider than the model", "w.obj", tet_obj("70"), "--mesh FILE --hole-diameter 100", 1,
+       "holes of 100 mm fit nowhere on it", "ask for --hole-diameter well under", kOptionRun},
+      // Issue 47: every output path is checked before the run, not only -o's.
+      {"--html folder cannot be written", "", "", "--resolution 33 --html /proc/view.html", 1,
+       "cannot create a file in '/proc'", "check that the directory is writable", kOptionRun},
+      {"--holes folder cannot be written", "", "", "--resolution 33 --holes /proc/holes.csv", 1,
+       "cannot create a file in '/proc'", "check that the directory is writable", kOptionRun},
+      {"output file name too long", "", "", "--resolution 33 -o " + std::string(250, 'a') + ".stl", 1,
+       "file name is too long", "choose a shorter name", kOptionRun},
+      {"-o is the --mesh input", "m.obj", tet_obj("10"), "--mesh FILE -o FILE", 2, "is the input file",
+       "give -o another path"},
+      {"--html is the --report", "", "", "--resolution 33 --html out.json", 2,
+       "--report 'out.json' and --html 'out.json' are the same file", "give each output its own path",
+       kOptionRun},
+      {"--holes is the --report (another spelling)", "", "", "--resolution 33 --holes ./out.json", 2,
+       "are the same file", "give each output its own path", kOptionRun},
   };
   return r;
 }
@@ -422,6 +514,38 @@ TEST_F(BadInputs, EachRowFailsWithOneErrorLineNamingProblemAndFixAndWritesNothin
     EXPECT_NE(err[0].find(row.fix), std::string::npos) << err[0];
     EXPECT_TRUE(fs::is_empty(out)) << "output left behind";
     if (!row.file.empty()) fs::remove(in / row.file);
+  }
+}
+
+// Issue 47: two outputs naming one file (by any spelling), or -o naming the input, are refused before
+// the run; nothing is written and the input is left as it was.
+TEST_F(BadInputs, OutputsNamingOneFileOrTheInputAreRefusedBeforeTheRun) {
+  const fs::path input = root_ / "in" / "keep.obj";
+  std::ofstream(input) << tet_obj("10");
+  const std::string in = quoted(input);
+  const std::vector<std::string> cases = {"-o same.stl --report same.stl",
+                                          "-o same.stl --html ./same.stl",
+                                          "-o same.stl --png ../out/same.stl",
+                                          "--report r.json --holes r.json",
+                                          "-o " + in + " --report r.json",
+                                          "-o out.stl --report " + in,
+                                          "-o out.stl --iso 0.1,0.2 --html out-iso0.2.stl"};
+  for (const std::string& outputs : cases) {
+    SCOPED_TRACE(outputs);
+    const fs::path log = root_ / "stderr";
+    const std::string command = "cd '" + (root_ / "out").string() + "' && '" + PORESHELL_EXE + "' --mesh " +
+                                in + " " + outputs + " " + kSmallRun + " >/dev/null 2>'" + log.string() +
+                                "' </dev/null";
+    const int status = std::system(command.c_str());
+    ASSERT_TRUE(WIFEXITED(status)) << "killed by a signal: " << command;
+    EXPECT_EQ(WEXITSTATUS(status), 2);
+    const auto err = lines(read_file(log));
+    ASSERT_EQ(err.size(), 1u) << read_file(log);
+    EXPECT_TRUE(err[0].find("are the same file") != std::string::npos ||
+                err[0].find("is the input file") != std::string::npos)
+        << err[0];
+    EXPECT_TRUE(fs::is_empty(root_ / "out")) << "output left behind";
+    EXPECT_EQ(read_file(input), tet_obj("10")) << "the input was changed";
   }
 }
 
