@@ -116,6 +116,10 @@ struct KeepOutBox {
   Point min{}, max{};  // mm, input frame
 };
 
+// The shell's wall where holes are asked in mm and no `wall` is given (issue 51: before, 3.81 voxels of
+// the hole map's grid, so that the part's thickness changed with the hole size).
+inline constexpr double kDefaultWallMm = 2.0;
+
 struct Options {
   // Multiplies the input's coordinates (after its unit): 0.5 prints the model at half size. Every
   // length below, keep-out zones included, is in millimetres of the scaled model.
@@ -134,7 +138,9 @@ struct Options {
 
   // The printed solid.
   Mode mode = Mode::shell;
-  double wall = 0.0;  // mm; 0: the band's width 2 delta = 3.81 h
+  // mm; 0: kDefaultWallMm where holes are asked in mm (a thickness that does not change with the holes),
+  // else (the paper's parameters) the band's width 2 delta = 3.81 h.
+  double wall = 0.0;
   WallOffset offset = WallOffset::centered;
   double rim = 0.0;  // mm of solid along the mesh's open boundary
   // Thin parts and sharp creases kept whole (holes asked in mm, mesh inputs): no hole where the part is

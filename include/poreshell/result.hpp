@@ -68,6 +68,9 @@ struct LevelReport {
     std::int64_t removed_fragments = 0, removed_voids = 0;
     std::int64_t removed_wall_voids = 0;  // of the voids, those the wall without pores has as well
     double removed_volume = 0.0;          // mm^3
+    // Sealed cavities of a perforated solid at or above min_part_fraction, filled solid (none kept).
+    std::int64_t filled_cavities = 0;
+    double filled_volume = 0.0, largest_filled_volume = 0.0;  // mm^3
   } parts;
   std::int64_t spots_at_iso = 0;  // connected components of {phi > iso} on the band
   // (chi of the unperforated solid less its voids removed here too - chi) / 2: the pores, each a tunnel
@@ -108,6 +111,9 @@ struct Report {
     std::string mode, offset;
     double wall_mm = 0.0, spacing_mm = 0.0, seconds_sample = 0.0;
     std::int64_t samples = 0, incomplete_stencils = 0;
+    // Where wall_mm came from: "asked" (Options::wall), "default" (kDefaultWallMm, holes in mm) or "band"
+    // (2 delta: the paper's parameters, the narrow volume).
+    std::string wall_source;
   } solid;
   struct {
     std::int64_t voxels = 0, ghosts = 0, paper_ghosts = 0, closure_added = 0, bytes = 0;

@@ -186,10 +186,13 @@ PipelineResult run_pipeline(const Input& input, const PreparedInput& prepared, R
   result.h = grid.h();
   check_band_fits(*placed.surface, placed.domain, placed.resolution, options.max_memory_gb,
                   grid.h() * placed.mm_per_grid(), holes_in_mm(options));
-  // The wall: asked for (shell), or the band's width 2 delta (the default shell, the narrow volume).
-  result.solid.wall_mm = options.mode == Mode::shell && options.wall > 0.0
-                             ? options.wall
-                             : 2.0 * BandOptions{}.delta_in_h * grid.h() * placed.mm_per_grid();
+  // The wall: asked for (shell); 2 mm where holes are asked in mm, so that it does not follow the hole
+  // map's voxel; else the band's width 2 delta (the paper's parameters, the narrow volume).
+  const bool shell_wall = options.mode == Mode::shell;
+  result.solid.wall_source = shell_wall && options.wall > 0.0 ? "asked" : shell_wall && result.plan ? "default" : "band";
+  result.solid.wall_mm = result.solid.wall_source == "asked"     ? options.wall
+                         : result.solid.wall_source == "default" ? kDefaultWallMm
+                                                                 : 2.0 * BandOptions{}.delta_in_h * grid.h() * placed.mm_per_grid();
   check_reduction(options, result.solid.wall_mm);
   const std::optional<GradeSpec> grade =
       options.grade ? std::optional<GradeSpec>(to_grade_spec(*options.grade)) : std::nullopt;
@@ -325,7 +328,10 @@ PipelineResult run_pipeline(const Input& input, const PreparedInput& prepared, R
     if (level + 1 == options.iso.size()) shell.reset();  // the samples, before the checks
     share.advance(meshed);
     for (Vec3& v : out.mesh.vertices) v = placed.to_mm(v);
-    if (!options.keep_fragments) out.parts = keep_main_parts(out.mesh, options.min_part_fraction);
+    // A cavity in a perforated solid is a pocket of the inside that no pore reaches: filled (issue 51).
+    // Without pores the inside is the shell's own, kept; keep_fragments keeps everything.
+    if (!options.keep_fragments)
+      out.parts = keep_main_parts(out.mesh, options.min_part_fraction, out.spots_at_iso > 0);
     const std::int64_t wall_voids =
         shell_mode ? wall_voids_euler(out.parts, wall_solid, [&](const Vec3& p) { return placed.from_mm(p); })
                    : 0;

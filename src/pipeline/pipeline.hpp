@@ -56,6 +56,7 @@ struct SolidSummary {
   std::size_t samples = 0;               // sparse grid points sampled (shell)
   std::int64_t incomplete_stencils = 0;  // closest points whose 8 band corners were not all present
   double seconds_sample = 0.0;           // distance, closest point, sign and pattern per sample
+  std::string wall_source;               // asked | default (kDefaultWallMm) | band (2 delta)
 };
 
 struct PipelineResult {

@@ -27,7 +27,8 @@ LevelReport level_report(const MeshOutput& m) {
             static_cast<std::int64_t>(m.wall.probes),
             static_cast<std::int64_t>(m.wall.merged)};
   l.parts = {m.topology.components, m.parts.removed_fragments, m.parts.removed_voids,
-             m.parts.removed_wall_voids, m.parts.removed_volume};
+             m.parts.removed_wall_voids, m.parts.removed_volume,     m.parts.filled_cavities,
+             m.parts.filled_volume,      m.parts.largest_filled_volume};
   l.spots_at_iso = m.spots_at_iso;
   l.pores_from_euler = m.pores_from_euler;
   l.hole_table_dropped = static_cast<std::int64_t>(m.hole_table.dropped);
@@ -69,7 +70,8 @@ Report make_report(const PipelineResult& r, const Options& options) {
                   r.solid.spacing_mm,
                   r.solid.seconds_sample,
                   static_cast<std::int64_t>(r.solid.samples),
-                  r.solid.incomplete_stencils};
+                  r.solid.incomplete_stencils,
+                  r.solid.wall_source};
   report.band = {static_cast<std::int64_t>(r.band_voxels), static_cast<std::int64_t>(r.ghosts),
                  r.band_stats.paper_ghosts, r.band_stats.closure_added,
                  static_cast<std::int64_t>(r.band_bytes)};
