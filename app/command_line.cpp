@@ -132,9 +132,10 @@ std::optional<Command> parse_command_line(int argc, const char* const* argv) {
                  "(about 3.8 h thick)")
       ->transform(one_of(kModes))
       ->default_str("shell");
-  app.add_option("--wall", options.wall,
-                 "shell wall thickness in mm (default: 2 mm with holes in mm; with the paper's parameters the band's "
-                 "width 2 delta = 3.81 h)")
+  app.add_option(
+         "--wall", options.wall,
+         "shell wall thickness in mm (default: 2 mm with holes in mm; with the paper's parameters the band's "
+         "width 2 delta = 3.81 h)")
       ->type_name("MM")
       ->check(number_above(0.0, false));
   app.add_option("--offset", options.offset,

@@ -116,7 +116,8 @@ void print_summary(const poreshell::Options& c, const poreshell::Report& r,
   if (r.preview)
     fmt::print("  solid    none (a preview: the surface with its holes painted on)\n");
   else if (r.solid.mode == "shell")
-    fmt::print("  solid    shell, wall {:.4g} mm{} {}, meshed at {:.4g} mm ({} samples, {:.2f} s)\n", r.solid.wall_mm,
+    fmt::print("  solid    shell, wall {:.4g} mm{} {}, meshed at {:.4g} mm ({} samples, {:.2f} s)\n",
+               r.solid.wall_mm,
                r.solid.wall_source == "default"
                    ? " (the default for holes in mm; --wall to change)"
                    : (r.solid.wall_source == "band" ? " (the band's width 2 delta; --wall to change)" : ""),
@@ -154,8 +155,8 @@ void print_summary(const poreshell::Options& c, const poreshell::Report& r,
                      ? fmt::format(", {} of them in the wall without pores too", m.parts.removed_wall_voids)
                      : "");
     if (m.parts.filled_cavities > 0)
-      fmt::print("; filled {} sealed cavities no pore opens ({:.3g} mm^3, the largest {:.3g})", m.parts.filled_cavities,
-                 m.parts.filled_volume, m.parts.largest_filled_volume);
+      fmt::print("; filled {} sealed cavities no pore opens ({:.3g} mm^3, the largest {:.3g})",
+                 m.parts.filled_cavities, m.parts.filled_volume, m.parts.largest_filled_volume);
     if (m.parts.parts > 1) fmt::print("; {} separate parts", m.parts.parts);
     if (m.wall.probes > 0) {
       fmt::print("; wall {:.4g} mm ({:.4g}-{:.4g} over 90% of {} probes", m.wall.median, m.wall.low,

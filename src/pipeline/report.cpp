@@ -26,8 +26,8 @@ LevelReport level_report(const MeshOutput& m) {
             m.wall.high,
             static_cast<std::int64_t>(m.wall.probes),
             static_cast<std::int64_t>(m.wall.merged)};
-  l.parts = {m.topology.components, m.parts.removed_fragments, m.parts.removed_voids,
-             m.parts.removed_wall_voids, m.parts.removed_volume,     m.parts.filled_cavities,
+  l.parts = {m.topology.components,      m.parts.removed_fragments,    m.parts.removed_voids,
+             m.parts.removed_wall_voids, m.parts.removed_volume,       m.parts.filled_cavities,
              m.parts.filled_volume,      m.parts.largest_filled_volume};
   l.spots_at_iso = m.spots_at_iso;
   l.pores_from_euler = m.pores_from_euler;

@@ -52,7 +52,8 @@ Mesh revolve(const std::vector<std::array<double, 2>>& profile, int segments) {
 
 // The sphere, a neck of radius `neck` from its north pole up `neck_length`, then the tail: a cylinder of
 // radius `tail` and length `tail_length`, capped by a half sphere.
-Mesh sphere_with_sealed_tail(double sphere, double neck, double neck_length, double tail, double tail_length) {
+Mesh sphere_with_sealed_tail(double sphere, double neck, double neck_length, double tail,
+                             double tail_length) {
   std::vector<std::array<double, 2>> profile;
   const int rings = 60;
   const double top = std::asin(neck / sphere);
@@ -83,8 +84,8 @@ TEST(ScanCases, TheDefaultWallIsTwoMillimetresWhateverTheHoleSize) {
     o.rim = 3.0;
     const Result r = perforate(input, o);
     const LevelReport& level = r.report.outputs.at(0);
-    std::printf("holes %.0f mm: wall asked %.3g mm (%s), measured median %.3g mm\n", d, r.report.solid.wall_mm,
-                r.report.solid.wall_source.c_str(), level.wall.median);
+    std::printf("holes %.0f mm: wall asked %.3g mm (%s), measured median %.3g mm\n", d,
+                r.report.solid.wall_mm, r.report.solid.wall_source.c_str(), level.wall.median);
     EXPECT_DOUBLE_EQ(r.report.solid.wall_mm, kDefaultWallMm);
     EXPECT_EQ(r.report.solid.wall_source, "default");
     EXPECT_NEAR(level.wall.median, kDefaultWallMm, 0.1 * kDefaultWallMm);
