@@ -221,7 +221,10 @@ std::optional<Command> parse_command_line(int argc, const char* const* argv) {
       ->type_name("MM")
       ->check(number_above(0.0, false))
       ->excludes(mesh_option);
-  app.add_option("--rim", options.rim, "solid rim of this width (mm) along the mesh's open boundary")
+  app.add_option(
+         "--rim", options.rim,
+         "solid rim of this width (mm) along the mesh's open boundary (default: half a hole with holes in "
+         "mm, so that none is cut open; 0: none)")
       ->type_name("MM")
       ->check(number_above(0.0, true));
   std::vector<std::string> keep_out;

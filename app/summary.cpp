@@ -181,9 +181,9 @@ void print_summary(const poreshell::Options& c, const poreshell::Report& r,
       fmt::print("least axis ratio {:.2f}\n", least_axis_ratio);
     }
     // What the zones asked for, as measured on the holes.
-    if (c.rim > 0.0 && !std::isnan(m.zones.rim))
-      fmt::print("  rim      {:.3g} mm from the open boundary to the nearest hole (asked {:g} mm)\n",
-                 m.zones.rim, c.rim);
+    if (m.zones.rim_asked > 0.0 && !std::isnan(m.zones.rim))
+      fmt::print("  rim      {:.3g} mm from the open boundary to the nearest hole (asked {:g} mm{})\n",
+                 m.zones.rim, m.zones.rim_asked, std::isnan(c.rim) ? ", the default: half a hole" : "");
     if (!std::isnan(m.zones.keep_out_clearance))
       fmt::print("  keep-out {} zones, {}; nearest hole edge {:.3g} mm from one\n",
                  c.keep_out.size() + c.keep_out_boxes.size(),

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -142,7 +143,10 @@ struct Options {
   // else (the paper's parameters) the band's width 2 delta = 3.81 h.
   double wall = 0.0;
   WallOffset offset = WallOffset::centered;
-  double rim = 0.0;  // mm of solid along the mesh's open boundary
+  // mm of solid along the mesh's open boundary. NaN (the default): half a hole where holes are asked in mm
+  // (the fast solver), so that no hole is cut open by the outline; none with the paper's parameters.
+  // 0: no rim, holes may be cut by the outline (notches).
+  double rim = std::numeric_limits<double>::quiet_NaN();
   // Thin parts and sharp creases kept whole (holes asked in mm, mesh inputs): no hole where the part is
   // thinner than thin_feature_ratio times the hole diameter (ears, fingers), nor within half a hole of
   // an edge sharper than crease_angle degrees. 0 turns either off.

@@ -80,6 +80,7 @@ struct LevelReport {
   // the least distance from a hole's edge to the open boundary (the rim left), and to a keep-out
   // (negative: a hole reaches in; holes_in_keep_outs counts those).
   struct {
+    double rim_asked = 0.0;  // the rim applied: Options::rim, or its default (half a hole, holes in mm)
     double rim = std::numeric_limits<double>::quiet_NaN();
     double keep_out_clearance = std::numeric_limits<double>::quiet_NaN();
     std::int64_t holes_in_keep_outs = 0;

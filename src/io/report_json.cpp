@@ -38,7 +38,7 @@ json level_json(const LevelReport& m, const Report& r) {
           {"spots_at_iso", m.spots_at_iso},
           {"hole_table_dropped", m.hole_table_dropped},
           {"applied",
-           {{"rim_requested_mm", r.settings.rim},
+           {{"rim_requested_mm", m.zones.rim_asked},
             {"rim_measured_mm", number_or_null(m.zones.rim)},
             {"keep_outs", r.settings.keep_out.size() + r.settings.keep_out_boxes.size()},
             {"keep_out_clearance_mm", number_or_null(m.zones.keep_out_clearance)},

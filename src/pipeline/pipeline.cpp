@@ -150,6 +150,12 @@ PreparedInput prepare_input(const Input& input, const Options& given) {
     options.phi_bar = prepared.plan->phi_bar;
   }
   prepared.placed = place_surface(input, options);
+  // The default rim: half a hole along an open outline, so that none is cut open (issue 51). Closed
+  // surfaces and the paper's parameters get none, so that their runs are as before.
+  if (std::isnan(options.rim)) {
+    const bool zones = prepared.plan && options.solver == SolverKind::fast && prepared.placed.open_mesh();
+    options.rim = zones ? 0.5 * prepared.plan->diameter : 0.0;
+  }
   prepared.seconds = seconds_since(start);
   return prepared;
 }

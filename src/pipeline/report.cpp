@@ -32,6 +32,7 @@ LevelReport level_report(const MeshOutput& m) {
   l.spots_at_iso = m.spots_at_iso;
   l.pores_from_euler = m.pores_from_euler;
   l.hole_table_dropped = static_cast<std::int64_t>(m.hole_table.dropped);
+  l.zones.rim_asked = m.zones.rim_asked;
   l.zones.rim = m.zones.rim;
   l.zones.keep_out_clearance = m.zones.keep_out_clearance;
   l.zones.holes_in_keep_outs = m.zones.holes_in_keep_outs;

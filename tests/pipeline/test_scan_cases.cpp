@@ -7,6 +7,10 @@
 //   than the wall. The tail is thin (no hole), the neck solid, so the tail's inside (some 500 mm^3, over
 //   the 1% removal threshold) is sealed off from the sphere's, which the pores open: before, a second
 //   part; now filled, one part, and the report says so.
+// - An open outline: a flat sheet whose outline is jagged (r = 45 + 4 sin 7 theta mm), and a square
+//   sheet (100 mm) with a slit 1 mm wide and 40 mm long cut in from one side. With the defaults (a rim of
+//   half a hole) no hole is cut by the outline or joins the slit: every band spot is a pore of the mesh
+//   and the nearest hole's edge is clear of the boundary. `rim` 0 still allows notches (on the slit).
 
 #include <gtest/gtest.h>
 
@@ -72,6 +76,45 @@ Mesh sphere_with_sealed_tail(double sphere, double neck, double neck_length, dou
   return revolve(profile, 96);
 }
 
+// A flat sheet in z = 0 (normals +z) inside the outline r(theta) = radius + bump sin(lobes theta).
+Mesh jagged_sheet(double radius, double bump, int lobes, int rings = 40, int segments = 256) {
+  Mesh m;
+  m.vertices.push_back({0, 0, 0});
+  for (int k = 1; k <= rings; ++k)
+    for (int s = 0; s < segments; ++s) {
+      const double a = 2 * std::numbers::pi * s / segments;
+      const double r = (radius + bump * std::sin(lobes * a)) * k / rings;
+      m.vertices.push_back({r * std::cos(a), r * std::sin(a), 0.0});
+    }
+  const auto at = [&](int k, int s) {
+    return static_cast<std::int32_t>(1 + (k - 1) * segments + s % segments);
+  };
+  for (int s = 0; s < segments; ++s) {
+    m.triangles.push_back({0, at(1, s), at(1, s + 1)});
+    for (int k = 1; k < rings; ++k) {
+      m.triangles.push_back({at(k, s), at(k + 1, s), at(k + 1, s + 1)});
+      m.triangles.push_back({at(k, s), at(k + 1, s + 1), at(k, s + 1)});
+    }
+  }
+  return m;
+}
+
+// A square sheet [0, n]^2 mm in z = 0 of 1 mm cells (normals +z), less the cells of column `slit` from
+// y = 0 up to `slit_length`: a slit 1 mm wide cut in from the side y = 0.
+Mesh slit_sheet(int n, int slit, int slit_length) {
+  Mesh m;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) m.vertices.push_back({double(i), double(j), 0.0});
+  const auto at = [&](int i, int j) { return static_cast<std::int32_t>(j * (n + 1) + i); };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      if (i == slit && j < slit_length) continue;
+      m.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      m.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+  return m;
+}
+
 }  // namespace
 
 TEST(ScanCases, TheDefaultWallIsTwoMillimetresWhateverTheHoleSize) {
@@ -115,4 +158,53 @@ TEST(ScanCases, ASealedCavityIsFilledAndTheOutputIsOnePart) {
   // keep_fragments keeps it, as before: the cavity is there to fill.
   o.keep_fragments = true;
   EXPECT_GE(perforate(input, o).report.outputs.at(0).topology.components, 2);
+}
+
+TEST(ScanCases, NoHoleIsCutByAnOpenOutlineByDefault) {
+  MeshInput input;
+  input.mesh = jagged_sheet(45.0, 4.0, 7);
+  input.name = "jagged sheet";
+  Options o;
+  o.hole_diameter = 6.0;
+  o.spacing = 10.0;
+  const Result r = perforate(input, o);
+  const LevelReport& level = r.report.outputs.at(0);
+  std::printf("default: rim asked %.3g mm, left %.3g mm; %zu holes, %lld spots no pore (notches)\n",
+              level.zones.rim_asked, level.zones.rim, r.outputs.at(0).holes.size(),
+              static_cast<long long>(level.hole_table_dropped));
+  EXPECT_DOUBLE_EQ(level.zones.rim_asked, 3.0);
+  EXPECT_EQ(level.hole_table_dropped, 0);
+  EXPECT_GE(level.zones.rim, 0.0);  // no hole reaches the outline
+  EXPECT_GT(r.outputs.at(0).holes.size(), 30u);
+  EXPECT_EQ(level.topology.components, 1);
+  o.rim = 0.0;
+  const Result open = perforate(input, o);
+  const LevelReport& notched = open.report.outputs.at(0);
+  std::printf("rim 0: rim left %.3g mm; %zu holes, %lld spots no pore (notches)\n", notched.zones.rim,
+              open.outputs.at(0).holes.size(), static_cast<long long>(notched.hole_table_dropped));
+  EXPECT_DOUBLE_EQ(notched.zones.rim_asked, 0.0);
+}
+
+TEST(ScanCases, NoHoleJoinsASlitByDefault) {
+  MeshInput input;
+  input.mesh = slit_sheet(100, 50, 40);
+  input.name = "sheet with a slit";
+  Options o;
+  o.hole_diameter = 6.0;
+  o.spacing = 10.0;
+  const Result r = perforate(input, o);
+  const LevelReport& level = r.report.outputs.at(0);
+  std::printf("default: rim asked %.3g mm, left %.3g mm; %zu holes, %lld spots no pore (notches)\n",
+              level.zones.rim_asked, level.zones.rim, r.outputs.at(0).holes.size(),
+              static_cast<long long>(level.hole_table_dropped));
+  EXPECT_EQ(level.hole_table_dropped, 0);
+  EXPECT_GE(level.zones.rim, 0.0);
+  EXPECT_GT(r.outputs.at(0).holes.size(), 40u);
+  EXPECT_EQ(level.topology.components, 1);
+  o.rim = 0.0;
+  const Result open = perforate(input, o);
+  const LevelReport& notched = open.report.outputs.at(0);
+  std::printf("rim 0: rim left %.3g mm; %zu holes, %lld spots no pore (notches)\n", notched.zones.rim,
+              open.outputs.at(0).holes.size(), static_cast<long long>(notched.hole_table_dropped));
+  EXPECT_TRUE(notched.hole_table_dropped > 0 || notched.zones.rim < 0.0);
 }
