@@ -7,6 +7,9 @@
 //   than the wall. The tail is thin (no hole), the neck solid, so the tail's inside (some 500 mm^3, over
 //   the 1% removal threshold) is sealed off from the sphere's, which the pores open: before, a second
 //   part; now filled, one part, and the report says so.
+// - Thin at the hole's scale: a sphere (r 40 mm) whose surface is grooved and bumped like a scan's relief
+//   (grooves 3 mm deep every 6.3 mm along the meridians, bumps across them) is thick everywhere: the
+//   thin-feature rule keeps its holes (before: every vertex marked thin, no hole at all).
 // - An open outline: a flat sheet whose outline is jagged (r = 45 + 4 sin 7 theta mm), and a square
 //   sheet (100 mm) with a slit 1 mm wide and 40 mm long cut in from one side. With the defaults (a rim of
 //   half a hole) no hole is cut by the outline or joins the slit: every band spot is a pore of the mesh
@@ -115,6 +118,37 @@ Mesh slit_sheet(int n, int slit, int slit_length) {
   return m;
 }
 
+// A sphere of radius r whose surface carries a scan's relief: grooves of depth 2a around the z axis,
+// `grooves` of them from pole to pole, and bumps of a/2 across them.
+Mesh grooved_sphere(double r, double a, int grooves, int rings = 300, int segments = 300) {
+  Mesh m;
+  m.vertices.push_back({0, 0, -r});
+  for (int i = 1; i < rings; ++i) {
+    const double theta = std::numbers::pi * i / rings;  // from the south pole
+    for (int s = 0; s < segments; ++s) {
+      const double phi = 2 * std::numbers::pi * s / segments;
+      const double rho = r + a * std::sin(2 * grooves * theta) * std::sqrt(std::sin(theta)) +
+                         0.5 * a * std::sin(17 * phi + 3 * theta) * std::sin(theta);
+      m.vertices.push_back({rho * std::sin(theta) * std::cos(phi), rho * std::sin(theta) * std::sin(phi),
+                            -rho * std::cos(theta)});
+    }
+  }
+  const auto top = static_cast<std::int32_t>(m.vertices.size());
+  m.vertices.push_back({0, 0, r});
+  const auto at = [&](int i, int s) {
+    return static_cast<std::int32_t>(1 + (i - 1) * segments + s % segments);
+  };
+  for (int s = 0; s < segments; ++s) {
+    m.triangles.push_back({0, at(1, s + 1), at(1, s)});
+    for (int i = 1; i + 1 < rings; ++i) {
+      m.triangles.push_back({at(i, s), at(i, s + 1), at(i + 1, s + 1)});
+      m.triangles.push_back({at(i, s), at(i + 1, s + 1), at(i + 1, s)});
+    }
+    m.triangles.push_back({at(rings - 1, s), at(rings - 1, s + 1), top});
+  }
+  return m;
+}
+
 }  // namespace
 
 TEST(ScanCases, TheDefaultWallIsTwoMillimetresWhateverTheHoleSize) {
@@ -207,4 +241,24 @@ TEST(ScanCases, NoHoleJoinsASlitByDefault) {
   std::printf("rim 0: rim left %.3g mm; %zu holes, %lld spots no pore (notches)\n", notched.zones.rim,
               open.outputs.at(0).holes.size(), static_cast<long long>(notched.hole_table_dropped));
   EXPECT_TRUE(notched.hole_table_dropped > 0 || notched.zones.rim < 0.0);
+}
+
+TEST(ScanCases, AGroovedThickBodyKeepsItsHoles) {
+  MeshInput input;
+  input.mesh = grooved_sphere(40.0, 1.5, 20);
+  input.name = "grooved sphere";
+  Options o;
+  o.hole_diameter = 6.0;
+  o.spacing = 10.0;
+  const Result r = perforate(input, o);
+  o.thin_feature_ratio = 0.0;
+  const Result off = perforate(input, o);
+  const std::size_t with = r.outputs.at(0).holes.size(), without = off.outputs.at(0).holes.size();
+  std::printf("thin rule on: %lld of %lld vertices thin, %zu holes, porosity %.3f; off: %zu holes, %.3f\n",
+              static_cast<long long>(r.report.input.thin_vertices),
+              static_cast<long long>(r.report.input.vertices), with, r.report.outputs.at(0).holes.porosity,
+              without, off.report.outputs.at(0).holes.porosity);
+  EXPECT_LT(r.report.input.thin_vertices, r.report.input.vertices / 20);
+  EXPECT_GE(static_cast<double>(with), 0.9 * static_cast<double>(without));
+  EXPECT_GT(without, 150u);
 }

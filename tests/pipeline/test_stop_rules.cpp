@@ -179,6 +179,8 @@ TEST(StopRules, PreviewClosesTheDiscsTheRunDoesOnTheBunny) {
   Options full;
   full.hole_diameter = 8.0;
   full.spacing = 14.0;
+  full.rim =
+      0.0;  // the base's edges as before issue 51's default rim: the discs the preview closes are there
   const auto [f, p] = run_and_preview(bunny, full);
   const HoleStats& hf = f.meshes.at(0).holes;
   const HoleStats& hp = p.meshes.at(0).holes;
