@@ -124,6 +124,12 @@ void print_summary(const poreshell::Options& c, const poreshell::Report& r,
                r.solid.offset, r.solid.spacing_mm, r.solid.samples, r.solid.seconds_sample);
   else
     fmt::print("  solid    narrow volume (Fig. 3b), {:.4g} mm thick (2 delta)\n", r.solid.wall_mm);
+  if (const auto& z = r.solid_zones; z.solid > 0.0)
+    fmt::print(
+        "  zones    {:.0f}% of the surface kept solid: thin parts {:.0f}%, creases {:.0f}%, rims {:.0f}%, "
+        "keep-outs {:.0f}%\n",
+        100.0 * z.solid / z.surface, 100.0 * z.thin / z.surface, 100.0 * z.creases / z.surface,
+        100.0 * z.rims / z.surface, 100.0 * z.keep_outs / z.surface);
   if (r.plan)
     fmt::print(
         "  holes    asked {:.4g} mm at {:.4g} mm spacing: alpha {:.4g} /mm^2, epsilon {:.4g} mm, phi-bar "
@@ -212,6 +218,7 @@ void print_summary(const poreshell::Options& c, const poreshell::Report& r,
 }
 
 void print_warnings(const poreshell::Options& c, const poreshell::Report& r) {
+  for (const std::string& warning : r.warnings) fmt::print(stderr, "poreshell: warning: {}\n", warning);
   if (r.solver.steps == 0) {
     // Nothing solved (a preview of the even layout): no stop to warn about.
   } else if (!r.solver.reached_tolerance && r.solver.stop_rule == "holes")

@@ -132,6 +132,13 @@ struct Report {
     double alpha_per_mm2 = 0.0, epsilon_mm = 0.0, phi_bar = 0.0;
   };
   std::optional<Plan> plan;  // the hole map's choice, when holes were asked in mm
+  // The input surface's area each rule keeps solid (mm^2; overlaps count in each; `solid` is their union),
+  // mesh inputs with holes in mm; zeros otherwise.
+  struct {
+    double surface = 0.0, thin = 0.0, creases = 0.0, rims = 0.0, keep_outs = 0.0, solid = 0.0;
+  } solid_zones;
+  // What a reader of the figures should not miss: the achieved porosity under 60% of the request's.
+  std::vector<std::string> warnings;
   struct Grading {
     double min_diameter = 0.0, max_diameter = 0.0, clamped_fraction = 0.0, printable_min = 0.0,
            printable_max = 0.0;

@@ -210,6 +210,7 @@ PipelineResult run_pipeline(const Input& input, const PreparedInput& prepared, R
     grade_field = input_vertex_field(input, grade->property, "grade");
   if (!options.keep_out_mask.empty())
     mask = input_vertex_field(input, options.keep_out_mask, "keep_out_mask");
+  if (result.plan) result.zone_areas = zone_areas(options, placed, features, mask);
 
   monitor.stage("band");
   t = std::chrono::steady_clock::now();

@@ -17,6 +17,7 @@
 #include "pattern/grading.hpp"
 #include "pattern/hole_map.hpp"
 #include "pattern/pattern.hpp"
+#include "pattern/solid_zones.hpp"
 #include "poreshell/geometry.hpp"
 #include "poreshell/options.hpp"
 #include "shell/hole_table.hpp"
@@ -70,6 +71,7 @@ struct PipelineResult {
   double dt = 0.0;
   HoleRequest requested_holes;            // as given
   std::optional<PatternPlan> plan;        // the hole map's choice, when a hole size was asked for
+  ZoneAreas zone_areas;                   // the input's area each solid-zone rule keeps (mm^2)
   std::optional<GradingSummary> grading;  // when graded
   std::string solver_name;
   std::string inner_iteration;

@@ -1,5 +1,7 @@
 #include "pipeline/report.hpp"
 
+#include <fmt/format.h>
+
 namespace poreshell {
 namespace {
 
@@ -118,6 +120,20 @@ Report make_report(const PipelineResult& r, const Options& options) {
   report.pattern = {r.spots.count,         r.closed_small_holes, r.spots.size_cv,   r.spots.mean_size,
                     r.spots.area_fraction, r.spots.spacing_mean, r.spots.spacing_cv};
   for (const MeshOutput& m : r.meshes) report.outputs.push_back(level_report(m));
+  const ZoneAreas& z = r.zone_areas;
+  report.solid_zones = {z.surface, z.thin, z.creases, z.rims, z.keep_outs, z.solid};
+  // Issue 51: a rule that empties the model is news, said with the share each rule keeps solid.
+  const auto share = [&](double area) { return z.surface > 0.0 ? 100.0 * area / z.surface : 0.0; };
+  if (report.plan)
+    for (const LevelReport& l : report.outputs)
+      if (l.holes.porosity < 0.6 * report.plan->porosity)
+        report.warnings.push_back(fmt::format(
+            "the holes open {:.1f}% of the surface against the {:.1f}% asked (under 60% of it): the solid "
+            "zones "
+            "keep {:.0f}% of the surface (thin parts {:.0f}%, creases {:.0f}%, rims {:.0f}%, keep-outs "
+            "{:.0f}%); lower --thin-features or --crease-angle, or narrow --rim, to open more",
+            100.0 * l.holes.porosity, 100.0 * report.plan->porosity, share(z.solid), share(z.thin),
+            share(z.creases), share(z.rims), share(z.keep_outs)));
   report.unperforated_euler_characteristic = r.unperforated_euler;
   report.memory = {static_cast<std::int64_t>(r.band_bytes), static_cast<std::int64_t>(r.solver_bytes),
                    static_cast<std::int64_t>(r.peak_rss_after_band),
