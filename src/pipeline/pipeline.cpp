@@ -257,6 +257,7 @@ PipelineResult run_pipeline(const Input& input, const PreparedInput& prepared, R
     const double share = unevolved ? kPreviewLeastHoleShare : kLeastHoleShare / kBandToMeshDiameter;
     result.closed_small_holes = close_small_spots(band, phi, result.plan->level,
                                                   share * result.plan->diameter / placed.mm_per_grid());
+    result.closed_oblong_holes = close_oblong_spots(band, phi, result.plan->level, kLeastSpotAxisRatio);
   }
   result.spots = spot_statistics(band, phi, 0.0);
   // Before a preview's output too, so that it shows the sizes asked where they are asked: on the layout's
