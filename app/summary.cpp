@@ -106,6 +106,9 @@ void print_summary(const poreshell::Options& c, const poreshell::Report& r,
         "  closed   {} oblong hole{} (axis ratio under 0.6 on the surface: slots beside solid zones, "
         "creases or tight bends)\n",
         r.pattern.closed_oblong_holes, r.pattern.closed_oblong_holes == 1 ? "" : "s");
+  if (r.pattern.closed_rim_holes > 0)
+    fmt::print("  closed   {} hole{} that would leave less than the rim asked\n", r.pattern.closed_rim_holes,
+               r.pattern.closed_rim_holes == 1 ? "" : "s");
   fmt::print("  time     band {:.2f} s, solve {:.2f} s, mesh+write {:.2f} s, total {:.2f} s ({} threads)\n",
              r.seconds.band, r.seconds.solve, r.seconds.mesh, r.seconds.total, r.threads);
   constexpr double kMiB = 1024.0 * 1024.0;

@@ -173,6 +173,8 @@ struct Report {
     // Spots whose axis ratio on the surface is under 0.6 (a slot between solid zones, across a crease,
     // on a tight bend) made solid, so that no written hole is oblong (issue 51).
     std::int64_t closed_oblong_holes = 0;
+    // Spots that would leave less than the asked rim (as discs of their area), made solid (issue 51).
+    std::int64_t closed_rim_holes = 0;
   } pattern;
   std::vector<LevelReport> outputs;
   std::int64_t unperforated_euler_characteristic = 0;

@@ -9,9 +9,11 @@
 #include "input/features.hpp"
 #include "input/point_cloud.hpp"
 #include "input/vertex_field.hpp"
+#include "pattern/pattern.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <unordered_map>
 
 namespace poreshell {
@@ -252,6 +254,43 @@ ZoneAreas zone_areas(const Options& c, const PlacedSurface& placed, const Featur
     areas.solid += thin || creases[i] || rims[i] || kept ? area[i] : 0.0;
   }
   return areas;
+}
+
+std::int64_t close_spots_in_rim(const NarrowBand& band, std::span<double> phi, double level,
+                                std::span<const Segment> boundary, double rim) {
+  if (boundary.empty() || !(rim > 0.0)) return 0;
+  const std::vector<std::int32_t> label = label_spots(band, phi, level);
+  std::vector<double> area;
+  std::vector<Vec3> centre;
+  for (std::size_t v = 0; v < label.size(); ++v) {
+    if (label[v] < 0) continue;
+    const auto l = static_cast<std::size_t>(label[v]);
+    if (l >= area.size()) {
+      area.resize(l + 1, 0.0);
+      centre.resize(l + 1, Vec3::Zero());
+    }
+    const double a = band.surface_area(v);
+    area[l] += a;
+    centre[l] += a * band.closest_point(v);
+  }
+  double widest = 0.0;
+  std::vector<double> radius(area.size());
+  for (std::size_t l = 0; l < area.size(); ++l) {
+    if (area[l] > 0.0) centre[l] /= area[l];
+    radius[l] = std::sqrt(area[l] / std::numbers::pi);
+    widest = std::max(widest, radius[l]);
+  }
+  const std::vector<double> distance = segment_distances(centre, boundary, rim + widest);
+  std::vector<char> close(area.size(), 0);
+  std::int64_t closed = 0;
+  for (std::size_t l = 0; l < area.size(); ++l)
+    if (area[l] > 0.0 && distance[l] - radius[l] < rim) {
+      close[l] = 1;
+      ++closed;
+    }
+  for (std::size_t v = 0; v < label.size(); ++v)
+    if (label[v] >= 0 && close[static_cast<std::size_t>(label[v])]) phi[v] = -1.0;
+  return closed;
 }
 
 }  // namespace poreshell

@@ -258,6 +258,9 @@ PipelineResult run_pipeline(const Input& input, const PreparedInput& prepared, R
     result.closed_small_holes = close_small_spots(band, phi, result.plan->level,
                                                   share * result.plan->diameter / placed.mm_per_grid());
     result.closed_oblong_holes = close_oblong_spots(band, phi, result.plan->level, kLeastSpotAxisRatio);
+    if (options.rim > 0.0 && placed.open_mesh())
+      result.closed_rim_holes = close_spots_in_rim(
+          band, phi, result.plan->level, boundary_segments(*placed.mesh), options.rim / placed.mm_per_grid());
   }
   result.spots = spot_statistics(band, phi, 0.0);
   // Before a preview's output too, so that it shows the sizes asked where they are asked: on the layout's
