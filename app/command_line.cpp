@@ -132,8 +132,10 @@ std::optional<Command> parse_command_line(int argc, const char* const* argv) {
                  "(about 3.8 h thick)")
       ->transform(one_of(kModes))
       ->default_str("shell");
-  app.add_option("--wall", options.wall,
-                 "shell wall thickness in mm (default: the band's width 2 delta = 3.81 h)")
+  app.add_option(
+         "--wall", options.wall,
+         "shell wall thickness in mm (default: 2 mm with holes in mm; with the paper's parameters the band's "
+         "width 2 delta = 3.81 h)")
       ->type_name("MM")
       ->check(number_above(0.0, false));
   app.add_option("--offset", options.offset,
@@ -219,7 +221,10 @@ std::optional<Command> parse_command_line(int argc, const char* const* argv) {
       ->type_name("MM")
       ->check(number_above(0.0, false))
       ->excludes(mesh_option);
-  app.add_option("--rim", options.rim, "solid rim of this width (mm) along the mesh's open boundary")
+  app.add_option(
+         "--rim", options.rim,
+         "solid rim of this width (mm) along the mesh's open boundary (default: half a hole with holes in "
+         "mm, so that none is cut open; 0: none)")
       ->type_name("MM")
       ->check(number_above(0.0, true));
   std::vector<std::string> keep_out;

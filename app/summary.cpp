@@ -109,6 +109,14 @@ void print_summary(const poreshell::Options& c, const poreshell::Report& r,
   else if (r.pattern.closed_small_holes > 0)
     fmt::print("  closed   {} hole{} under 0.7 of the asked diameter (pinholes next to solid zones)\n",
                r.pattern.closed_small_holes, plural);
+  if (r.pattern.closed_oblong_holes > 0)
+    fmt::print(
+        "  closed   {} oblong hole{} (axis ratio under 0.6 on the surface: slots beside solid zones, "
+        "creases or tight bends)\n",
+        r.pattern.closed_oblong_holes, r.pattern.closed_oblong_holes == 1 ? "" : "s");
+  if (r.pattern.closed_rim_holes > 0)
+    fmt::print("  closed   {} hole{} that would leave less than the rim asked\n", r.pattern.closed_rim_holes,
+               r.pattern.closed_rim_holes == 1 ? "" : "s");
   fmt::print("  time     band {:.2f} s, solve {:.2f} s, mesh+write {:.2f} s, total {:.2f} s ({} threads)\n",
              r.seconds.band, r.seconds.solve, r.seconds.mesh, r.seconds.total, r.threads);
   constexpr double kMiB = 1024.0 * 1024.0;
@@ -124,10 +132,20 @@ void print_summary(const poreshell::Options& c, const poreshell::Report& r,
   if (r.preview)
     fmt::print("  solid    none (a preview: the surface with its holes painted on)\n");
   else if (r.solid.mode == "shell")
-    fmt::print("  solid    shell, wall {:.4g} mm {}, meshed at {:.4g} mm ({} samples, {:.2f} s)\n",
-               r.solid.wall_mm, r.solid.offset, r.solid.spacing_mm, r.solid.samples, r.solid.seconds_sample);
+    fmt::print("  solid    shell, wall {:.4g} mm{} {}, meshed at {:.4g} mm ({} samples, {:.2f} s)\n",
+               r.solid.wall_mm,
+               r.solid.wall_source == "default"
+                   ? " (the default for holes in mm; --wall to change)"
+                   : (r.solid.wall_source == "band" ? " (the band's width 2 delta; --wall to change)" : ""),
+               r.solid.offset, r.solid.spacing_mm, r.solid.samples, r.solid.seconds_sample);
   else
     fmt::print("  solid    narrow volume (Fig. 3b), {:.4g} mm thick (2 delta)\n", r.solid.wall_mm);
+  if (const auto& z = r.solid_zones; z.solid > 0.0)
+    fmt::print(
+        "  zones    {:.0f}% of the surface kept solid: thin parts {:.0f}%, creases {:.0f}%, rims {:.0f}%, "
+        "keep-outs {:.0f}%\n",
+        100.0 * z.solid / z.surface, 100.0 * z.thin / z.surface, 100.0 * z.creases / z.surface,
+        100.0 * z.rims / z.surface, 100.0 * z.keep_outs / z.surface);
   if (r.plan)
     fmt::print(
         "  holes    asked {:.4g} mm at {:.4g} mm spacing: alpha {:.4g} /mm^2, epsilon {:.4g} mm, phi-bar "
@@ -158,6 +176,9 @@ void print_summary(const poreshell::Options& c, const poreshell::Report& r,
                  m.parts.removed_wall_voids > 0
                      ? fmt::format(", {} of them in the wall without pores too", m.parts.removed_wall_voids)
                      : "");
+    if (m.parts.filled_cavities > 0)
+      fmt::print("; filled {} sealed cavities no pore opens ({:.3g} mm^3, the largest {:.3g})",
+                 m.parts.filled_cavities, m.parts.filled_volume, m.parts.largest_filled_volume);
     if (m.parts.parts > 1) fmt::print("; {} separate parts", m.parts.parts);
     if (m.wall.probes > 0) {
       fmt::print("; wall {:.4g} mm ({:.4g}-{:.4g} over 90% of {} probes", m.wall.median, m.wall.low,
@@ -182,9 +203,9 @@ void print_summary(const poreshell::Options& c, const poreshell::Report& r,
       fmt::print("least axis ratio {:.2f}\n", least_axis_ratio);
     }
     // What the zones asked for, as measured on the holes.
-    if (c.rim > 0.0 && !std::isnan(m.zones.rim))
-      fmt::print("  rim      {:.3g} mm from the open boundary to the nearest hole (asked {:g} mm)\n",
-                 m.zones.rim, c.rim);
+    if (m.zones.rim_asked > 0.0 && !std::isnan(m.zones.rim))
+      fmt::print("  rim      {:.3g} mm from the open boundary to the nearest hole (asked {:g} mm{})\n",
+                 m.zones.rim, m.zones.rim_asked, std::isnan(c.rim) ? ", the default: half a hole" : "");
     if (!std::isnan(m.zones.keep_out_clearance))
       fmt::print("  keep-out {} zones, {}; nearest hole edge {:.3g} mm from one\n",
                  c.keep_out.size() + c.keep_out_boxes.size(),
@@ -213,6 +234,7 @@ void print_summary(const poreshell::Options& c, const poreshell::Report& r,
 }
 
 void print_warnings(const poreshell::Options& c, const poreshell::Report& r) {
+  for (const std::string& warning : r.warnings) fmt::print(stderr, "poreshell: warning: {}\n", warning);
   if (r.solver.steps == 0) {
     // Nothing solved (a preview of the even layout): no stop to warn about.
   } else if (!r.solver.reached_tolerance && r.solver.stop_rule == "holes")

@@ -105,7 +105,8 @@
     const preview = report.preview === true;
     const wallAsked = !preview || (finite((report.settings || {}).wall) && report.settings.wall > 0);
     const wallRequested = finite(wall.requested_mm) ? wall.requested_mm : solid.wall_mm;
-    if (wallAsked && finite(wallRequested)) row(req, 'Wall', mm(wallRequested));
+    const wallSource = { default: 'default for holes in mm', band: "the band's width" }[solid.wall_source];
+    if (wallAsked && finite(wallRequested)) row(req, 'Wall', mm(wallRequested), wallSource);
     if (!req.children.length) req.outerHTML = '<div class="none">no hole request (model parameters)</div>';
 
     const m = document.getElementById('measured');

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -116,6 +117,10 @@ struct KeepOutBox {
   Point min{}, max{};  // mm, input frame
 };
 
+// The shell's wall where holes are asked in mm and no `wall` is given (issue 51: before, 3.81 voxels of
+// the hole map's grid, so that the part's thickness changed with the hole size).
+inline constexpr double kDefaultWallMm = 2.0;
+
 struct Options {
   // Multiplies the input's coordinates (after its unit): 0.5 prints the model at half size. Every
   // length below, keep-out zones included, is in millimetres of the scaled model.
@@ -134,9 +139,14 @@ struct Options {
 
   // The printed solid.
   Mode mode = Mode::shell;
-  double wall = 0.0;  // mm; 0: the band's width 2 delta = 3.81 h
+  // mm; 0: kDefaultWallMm where holes are asked in mm (a thickness that does not change with the holes),
+  // else (the paper's parameters) the band's width 2 delta = 3.81 h.
+  double wall = 0.0;
   WallOffset offset = WallOffset::centered;
-  double rim = 0.0;  // mm of solid along the mesh's open boundary
+  // mm of solid along the mesh's open boundary. NaN (the default): half a hole where holes are asked in mm
+  // (the fast solver), so that no hole is cut open by the outline; none with the paper's parameters.
+  // 0: no rim, holes may be cut by the outline (notches).
+  double rim = std::numeric_limits<double>::quiet_NaN();
   // Thin parts and sharp creases kept whole (holes asked in mm, mesh inputs): no hole where the part is
   // thinner than thin_feature_ratio times the hole diameter (ears, fingers), nor within half a hole of
   // an edge sharper than crease_angle degrees. 0 turns either off.

@@ -68,6 +68,9 @@ struct LevelReport {
     std::int64_t removed_fragments = 0, removed_voids = 0;
     std::int64_t removed_wall_voids = 0;  // of the voids, those the wall without pores has as well
     double removed_volume = 0.0;          // mm^3
+    // Sealed cavities of a perforated solid at or above min_part_fraction, filled solid (none kept).
+    std::int64_t filled_cavities = 0;
+    double filled_volume = 0.0, largest_filled_volume = 0.0;  // mm^3
   } parts;
   std::int64_t spots_at_iso = 0;  // connected components of {phi > iso} on the band
   // (chi of the unperforated solid less its voids removed here too - chi) / 2: the pores, each a tunnel
@@ -77,6 +80,7 @@ struct LevelReport {
   // the least distance from a hole's edge to the open boundary (the rim left), and to a keep-out
   // (negative: a hole reaches in; holes_in_keep_outs counts those).
   struct {
+    double rim_asked = 0.0;  // the rim applied: Options::rim, or its default (half a hole, holes in mm)
     double rim = std::numeric_limits<double>::quiet_NaN();
     double keep_out_clearance = std::numeric_limits<double>::quiet_NaN();
     std::int64_t holes_in_keep_outs = 0;
@@ -109,6 +113,9 @@ struct Report {
     std::string mode, offset;
     double wall_mm = 0.0, spacing_mm = 0.0, seconds_sample = 0.0;
     std::int64_t samples = 0, incomplete_stencils = 0;
+    // Where wall_mm came from: "asked" (Options::wall), "default" (kDefaultWallMm, holes in mm) or "band"
+    // (2 delta: the paper's parameters, the narrow volume).
+    std::string wall_source;
   } solid;
   struct {
     std::int64_t voxels = 0, ghosts = 0, paper_ghosts = 0, closure_added = 0, bytes = 0;
@@ -126,6 +133,13 @@ struct Report {
     double alpha_per_mm2 = 0.0, epsilon_mm = 0.0, phi_bar = 0.0;
   };
   std::optional<Plan> plan;  // the hole map's choice, when holes were asked in mm
+  // The input surface's area each rule keeps solid (mm^2; overlaps count in each; `solid` is their union),
+  // mesh inputs with holes in mm; zeros otherwise.
+  struct {
+    double surface = 0.0, thin = 0.0, creases = 0.0, rims = 0.0, keep_outs = 0.0, solid = 0.0;
+  } solid_zones;
+  // What a reader of the figures should not miss: the achieved porosity under 60% of the request's.
+  std::vector<std::string> warnings;
   struct Grading {
     double min_diameter = 0.0, max_diameter = 0.0, clamped_fraction = 0.0, printable_min = 0.0,
            printable_max = 0.0;
@@ -157,6 +171,11 @@ struct Report {
     std::int64_t closed_small_holes = 0;
     double size_cv = 0.0, mean_size_voxels = 0.0, area_fraction = 0.0, spacing_mean_voxels = 0.0,
            spacing_cv = 0.0;
+    // Spots whose axis ratio on the surface is under 0.6 (a slot between solid zones, across a crease,
+    // on a tight bend) made solid, so that no written hole is oblong (issue 51).
+    std::int64_t closed_oblong_holes = 0;
+    // Spots that would leave less than the asked rim (as discs of their area), made solid (issue 51).
+    std::int64_t closed_rim_holes = 0;
   } pattern;
   std::vector<LevelReport> outputs;
   std::int64_t unperforated_euler_characteristic = 0;

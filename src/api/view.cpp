@@ -88,8 +88,9 @@ void save_html(const std::filesystem::path& path, const Result& result, const Op
     data.holes.push_back(
         {vec(h.centre), vec(h.normal), h.diameter, h.circularity, h.nearest, h.axis_ratio, h.asked_diameter});
   if (result.report.plan) data.requested_diameter_mm = result.report.plan->diameter;
-  data.rim_width_mm = options.rim;
-  if (options.rim > 0.0) data.rim_loops = boundary_lines(input);
+  // The rim the run applied (a default one is half a hole).
+  data.rim_width_mm = result.report.outputs.empty() ? 0.0 : result.report.outputs.front().zones.rim_asked;
+  if (data.rim_width_mm > 0.0) data.rim_loops = boundary_lines(input);
   for (const KeepOutSphere& k : options.keep_out) data.keep_out_spheres.push_back({vec(k.centre), k.radius});
   for (const KeepOutBox& k : options.keep_out_boxes) data.keep_out_boxes.push_back({vec(k.min), vec(k.max)});
   data.report = to_json(result.report, result.outputs);

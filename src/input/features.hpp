@@ -29,10 +29,12 @@ struct FeatureOptions {
   double min_crease_length = 0;  // shorter chains of sharp edges are scan noise, not creases
 };
 
-// `surface` answers distances to `mesh` (the same triangles). The thickness test: a ball of radius t
-// touching the surface at a vertex from inside (along the inward normal) stays at distance t from the
-// surface for t up to half the local thickness; it is tried at t = 1/4, 1/2, 3/4 and 1 of
-// thin_below / 2. Needs outward-oriented triangles (an inward mesh is turned by its signed volume).
+// `surface` answers distances to `mesh` (the same triangles). The thickness test, at the hole's scale: a
+// ball of radius R = thin_below / 2 fits where, touching the surface at a vertex from inside (along the
+// inward normal), it stays at distance t from the surface for t at 1/4, 1/2, 3/4 and 1 of R. A vertex is
+// thin where no fitting ball's centre lies within R + margin of it: not where its own ball is short of
+// room in a groove or on a bump of the scan, but where no ball of that size fits in the part nearby.
+// Needs outward-oriented triangles (an inward mesh is turned by its signed volume).
 SurfaceFeatures find_surface_features(const TriangleMesh& mesh, const Surface& surface,
                                       const FeatureOptions& options);
 

@@ -1,5 +1,6 @@
 #include "pattern/pattern.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -68,6 +69,44 @@ std::int64_t close_small_spots(const NarrowBand& band, std::span<double> phi, do
   for (const double a : area) closed += a < least_area ? 1 : 0;
   for (std::size_t v = 0; v < label.size(); ++v)
     if (label[v] >= 0 && area[static_cast<std::size_t>(label[v])] < least_area) phi[v] = -1.0;
+  return closed;
+}
+
+std::int64_t close_oblong_spots(const NarrowBand& band, std::span<double> phi, double level,
+                                double min_axis_ratio) {
+  const std::vector<std::int32_t> label = label_spots(band, phi, level);
+  struct Moments {
+    double w = 0.0;
+    Vec3 sum = Vec3::Zero();
+    Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
+  };
+  std::vector<Moments> spots;
+  for (std::size_t v = 0; v < label.size(); ++v) {
+    if (label[v] < 0) continue;
+    const auto l = static_cast<std::size_t>(label[v]);
+    if (l >= spots.size()) spots.resize(l + 1);
+    const double w = band.surface_area(v);
+    const Vec3 p = band.closest_point(v);
+    spots[l].w += w;
+    spots[l].sum += w * p;
+    spots[l].outer += w * p * p.transpose();
+  }
+  std::vector<char> oblong(spots.size(), 0);
+  std::int64_t closed = 0;
+  for (std::size_t l = 0; l < spots.size(); ++l) {
+    const Moments& m = spots[l];
+    if (!(m.w > 0.0)) continue;
+    const Vec3 mean = m.sum / m.w;
+    const Eigen::Matrix3d covariance = m.outer / m.w - mean * mean.transpose();
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance, Eigen::EigenvaluesOnly);
+    const Vec3 lambda = eigen.eigenvalues();  // ascending: the normal's, the minor axis's, the major's
+    if (lambda[2] > 0.0 && std::sqrt(std::max(lambda[1], 0.0) / lambda[2]) < min_axis_ratio) {
+      oblong[l] = 1;
+      ++closed;
+    }
+  }
+  for (std::size_t v = 0; v < label.size(); ++v)
+    if (label[v] >= 0 && oblong[static_cast<std::size_t>(label[v])]) phi[v] = -1.0;
   return closed;
 }
 

@@ -2,15 +2,18 @@
 
 #include <tbb/parallel_for.h>
 
+#include <Eigen/Geometry>  // cross()
 #include <memory>
 
 #include "geometry/point_tree.hpp"
 #include "input/features.hpp"
 #include "input/point_cloud.hpp"
 #include "input/vertex_field.hpp"
+#include "pattern/pattern.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <unordered_map>
 
 namespace poreshell {
@@ -183,6 +186,7 @@ FeatureZones feature_zones(const Options& c, const PlacedSurface& placed, double
   SurfaceFeatures f = find_surface_features(*placed.mesh, *placed.surface, o);
   zones.thin_vertices = f.thin_vertices;
   zones.crease_edges = f.crease_edges;
+  zones.thin_marks = f.thin;
   if (f.thin_vertices > 0) {
     // Only the triangles with a marked vertex: the field is 0 on all others, and the solid zones ask at
     // points on the surface (the voxels' closest points, within rounding of it), so a point no marked
@@ -200,6 +204,93 @@ FeatureZones feature_zones(const Options& c, const PlacedSurface& placed, double
   zones.creases.assign(f.creases.begin(), f.creases.end());
   zones.crease_width = 0.5 * hole;
   return zones;
+}
+
+ZoneAreas zone_areas(const Options& c, const PlacedSurface& placed, const FeatureZones& features,
+                     const std::function<double(const Vec3&)>& mask) {
+  ZoneAreas areas;
+  if (!placed.mesh) return areas;
+  const TriangleMesh& mesh = *placed.mesh;
+  const double mm = placed.mm_per_grid(), grid_per_mm = 1.0 / mm;
+  const auto vec = [](const Point& p) { return Vec3(p[0], p[1], p[2]); };
+  std::vector<Vec3> centroid(mesh.triangles.size());
+  std::vector<double> area(mesh.triangles.size());
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+    const auto& t = mesh.triangles[i];
+    const Vec3 &a = mesh.vertices[static_cast<std::size_t>(t[0])],
+               &b = mesh.vertices[static_cast<std::size_t>(t[1])],
+               &d = mesh.vertices[static_cast<std::size_t>(t[2])];
+    centroid[i] = (a + b + d) / 3.0;
+    area[i] = 0.5 * (b - a).cross(d - a).norm() * mm * mm;
+  }
+  const auto near = [&](std::span<const Segment> segments, double width) {
+    std::vector<char> in(centroid.size(), 0);
+    if (segments.empty() || !(width > 0.0)) return in;
+    const std::vector<double> d = segment_distances(centroid, segments, width);
+    for (std::size_t i = 0; i < d.size(); ++i) in[i] = d[i] < width ? 1 : 0;
+    return in;
+  };
+  const std::vector<Segment> boundary = boundary_segments(mesh);
+  const std::vector<char> creases = near(features.creases, features.crease_width),
+                          rims = near(boundary, c.rim * grid_per_mm);
+  for (std::size_t i = 0; i < centroid.size(); ++i) {
+    const auto& t = mesh.triangles[i];
+    bool thin = false;
+    if (!features.thin_marks.empty()) {
+      double marks = 0.0;
+      for (std::int32_t v : t) marks += features.thin_marks[static_cast<std::size_t>(v)];
+      thin = marks >= 1.5;  // most of its corners
+    }
+    const Vec3 x = placed.to_mm(centroid[i]);
+    bool kept = mask && mask(x) >= 0.5;
+    for (const KeepOutSphere& k : c.keep_out) kept = kept || (x - vec(k.centre)).norm() < k.radius;
+    for (const KeepOutBox& k : c.keep_out_boxes)
+      kept = kept || box_distance(x, SolidBox::spanned(vec(k.min), vec(k.max))) < 0.0;
+    areas.surface += area[i];
+    areas.thin += thin ? area[i] : 0.0;
+    areas.creases += creases[i] ? area[i] : 0.0;
+    areas.rims += rims[i] ? area[i] : 0.0;
+    areas.keep_outs += kept ? area[i] : 0.0;
+    areas.solid += thin || creases[i] || rims[i] || kept ? area[i] : 0.0;
+  }
+  return areas;
+}
+
+std::int64_t close_spots_in_rim(const NarrowBand& band, std::span<double> phi, double level,
+                                std::span<const Segment> boundary, double rim) {
+  if (boundary.empty() || !(rim > 0.0)) return 0;
+  const std::vector<std::int32_t> label = label_spots(band, phi, level);
+  std::vector<double> area;
+  std::vector<Vec3> centre;
+  for (std::size_t v = 0; v < label.size(); ++v) {
+    if (label[v] < 0) continue;
+    const auto l = static_cast<std::size_t>(label[v]);
+    if (l >= area.size()) {
+      area.resize(l + 1, 0.0);
+      centre.resize(l + 1, Vec3::Zero());
+    }
+    const double a = band.surface_area(v);
+    area[l] += a;
+    centre[l] += a * band.closest_point(v);
+  }
+  double widest = 0.0;
+  std::vector<double> radius(area.size());
+  for (std::size_t l = 0; l < area.size(); ++l) {
+    if (area[l] > 0.0) centre[l] /= area[l];
+    radius[l] = std::sqrt(area[l] / std::numbers::pi);
+    widest = std::max(widest, radius[l]);
+  }
+  const std::vector<double> distance = segment_distances(centre, boundary, rim + widest);
+  std::vector<char> close(area.size(), 0);
+  std::int64_t closed = 0;
+  for (std::size_t l = 0; l < area.size(); ++l)
+    if (area[l] > 0.0 && distance[l] - radius[l] < rim) {
+      close[l] = 1;
+      ++closed;
+    }
+  for (std::size_t v = 0; v < label.size(); ++v)
+    if (label[v] >= 0 && close[static_cast<std::size_t>(label[v])]) phi[v] = -1.0;
+  return closed;
 }
 
 }  // namespace poreshell

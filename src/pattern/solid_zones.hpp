@@ -57,6 +57,14 @@ std::vector<double> solid_zone_weight(const NarrowBand& band, std::span<const Se
                                       std::span<const SolidBox> boxes = {},
                                       RampSide rim_side = RampSide::inside);
 
+// Makes solid every spot {phi > level} that, as a disc of its area about the mean of its closest points,
+// would come nearer than `rim` to a boundary segment (grid units): the rim asked is the rim made, also
+// where a scan's open boundary turns (issue 51: the bunny's base at 8 / 14 mm left 2.72 mm of a 3 mm rim).
+// The output's rim is measured the same way on the mesh's holes (shell/zone_check.hpp), whose diameters
+// are under the band's. Returns how many it closed.
+std::int64_t close_spots_in_rim(const NarrowBand& band, std::span<double> phi, double level,
+                                std::span<const Segment> boundary, double rim);
+
 // phi_bar(x) = phi_bar + (-1 - phi_bar) w(x): the nonlocal term's target, solid where w = 1.
 std::vector<double> mean_concentration_field(std::span<const double> weight, double phi_bar);
 
@@ -70,10 +78,20 @@ struct FeatureZones {
   std::vector<Segment> creases;
   double crease_width = 0.0;
   std::int64_t thin_vertices = 0, crease_edges = 0;  // what was found, for the report
+  std::vector<double> thin_marks;                    // a mesh input's: per vertex of placed.mesh, 0 or 1
 };
 std::vector<double> solid_zones(const Options& options, const PlacedSurface& placed, const NarrowBand& band,
                                 double epsilon, const std::function<double(const Vec3&)>& mask,
                                 const FeatureZones& features = {});
+
+// The input surface's area each rule keeps solid (mm^2; a triangle counts for a rule when its centroid is
+// in the rule's zone, so overlaps count in each), and in all: what the report gives per rule, so that a
+// designer sees which rule took the porosity (issue 51). Mesh inputs only; zeros otherwise.
+struct ZoneAreas {
+  double surface = 0.0, thin = 0.0, creases = 0.0, rims = 0.0, keep_outs = 0.0, solid = 0.0;
+};
+ZoneAreas zone_areas(const Options& options, const PlacedSurface& placed, const FeatureZones& features,
+                     const std::function<double(const Vec3&)>& mask);
 
 // The thin parts and creases of a mesh input for holes of `hole_diameter_mm` (the options' thresholds);
 // none for shapes and point clouds.

@@ -150,6 +150,12 @@ PreparedInput prepare_input(const Input& input, const Options& given) {
     options.phi_bar = prepared.plan->phi_bar;
   }
   prepared.placed = place_surface(input, options);
+  // The default rim: half a hole along an open outline, so that none is cut open (issue 51). Closed
+  // surfaces and the paper's parameters get none, so that their runs are as before.
+  if (std::isnan(options.rim)) {
+    const bool zones = prepared.plan && options.solver == SolverKind::fast && prepared.placed.open_mesh();
+    options.rim = zones ? 0.5 * prepared.plan->diameter : 0.0;
+  }
   prepared.seconds = seconds_since(start);
   return prepared;
 }
@@ -186,9 +192,15 @@ PipelineResult run_pipeline(const Input& input, const PreparedInput& prepared, R
   result.h = grid.h();
   check_band_fits(*placed.surface, placed.domain, placed.resolution, options.max_memory_gb,
                   grid.h() * placed.mm_per_grid(), holes_in_mm(options));
-  // The wall: asked for (shell), or the band's width 2 delta (the default shell, the narrow volume).
-  result.solid.wall_mm = options.mode == Mode::shell && options.wall > 0.0
-                             ? options.wall
+  // The wall: asked for (shell); 2 mm where holes are asked in mm, so that it does not follow the hole
+  // map's voxel; else the band's width 2 delta (the paper's parameters, the narrow volume).
+  const bool shell_wall = options.mode == Mode::shell;
+  result.solid.wall_source = shell_wall && options.wall > 0.0 ? "asked"
+                             : shell_wall && result.plan      ? "default"
+                                                              : "band";
+  result.solid.wall_mm = result.solid.wall_source == "asked" ? options.wall
+                         : result.solid.wall_source == "default"
+                             ? kDefaultWallMm
                              : 2.0 * BandOptions{}.delta_in_h * grid.h() * placed.mm_per_grid();
   check_reduction(options, result.solid.wall_mm);
   const std::optional<GradeSpec> grade =
@@ -198,6 +210,7 @@ PipelineResult run_pipeline(const Input& input, const PreparedInput& prepared, R
     grade_field = input_vertex_field(input, grade->property, "grade");
   if (!options.keep_out_mask.empty())
     mask = input_vertex_field(input, options.keep_out_mask, "keep_out_mask");
+  if (result.plan) result.zone_areas = zone_areas(options, placed, features, mask);
 
   monitor.stage("band");
   t = std::chrono::steady_clock::now();
@@ -244,6 +257,10 @@ PipelineResult run_pipeline(const Input& input, const PreparedInput& prepared, R
     const double share = unevolved ? kPreviewLeastHoleShare : kLeastHoleShare / kBandToMeshDiameter;
     result.closed_small_holes = close_small_spots(band, phi, result.plan->level,
                                                   share * result.plan->diameter / placed.mm_per_grid());
+    result.closed_oblong_holes = close_oblong_spots(band, phi, result.plan->level, kLeastSpotAxisRatio);
+    if (options.rim > 0.0 && placed.open_mesh())
+      result.closed_rim_holes = close_spots_in_rim(
+          band, phi, result.plan->level, boundary_segments(*placed.mesh), options.rim / placed.mm_per_grid());
   }
   result.spots = spot_statistics(band, phi, 0.0);
   // Before a preview's output too, so that it shows the sizes asked where they are asked: on the layout's
@@ -325,7 +342,10 @@ PipelineResult run_pipeline(const Input& input, const PreparedInput& prepared, R
     if (level + 1 == options.iso.size()) shell.reset();  // the samples, before the checks
     share.advance(meshed);
     for (Vec3& v : out.mesh.vertices) v = placed.to_mm(v);
-    if (!options.keep_fragments) out.parts = keep_main_parts(out.mesh, options.min_part_fraction);
+    // A cavity in a perforated solid is a pocket of the inside that no pore reaches: filled (issue 51).
+    // Without pores the inside is the shell's own, kept; keep_fragments keeps everything.
+    if (!options.keep_fragments)
+      out.parts = keep_main_parts(out.mesh, options.min_part_fraction, out.spots_at_iso > 0);
     const std::int64_t wall_voids =
         shell_mode ? wall_voids_euler(out.parts, wall_solid, [&](const Vec3& p) { return placed.from_mm(p); })
                    : 0;

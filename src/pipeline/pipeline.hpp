@@ -17,6 +17,7 @@
 #include "pattern/grading.hpp"
 #include "pattern/hole_map.hpp"
 #include "pattern/pattern.hpp"
+#include "pattern/solid_zones.hpp"
 #include "poreshell/geometry.hpp"
 #include "poreshell/options.hpp"
 #include "shell/hole_table.hpp"
@@ -57,6 +58,7 @@ struct SolidSummary {
   std::size_t samples = 0;               // sparse grid points sampled (shell)
   std::int64_t incomplete_stencils = 0;  // closest points whose 8 band corners were not all present
   double seconds_sample = 0.0;           // distance, closest point, sign and pattern per sample
+  std::string wall_source;               // asked | default (kDefaultWallMm) | band (2 delta)
 };
 
 struct PipelineResult {
@@ -70,12 +72,16 @@ struct PipelineResult {
   double dt = 0.0;
   HoleRequest requested_holes;            // as given
   std::optional<PatternPlan> plan;        // the hole map's choice, when a hole size was asked for
+  ZoneAreas zone_areas;                   // the input's area each solid-zone rule keeps (mm^2)
   std::optional<GradingSummary> grading;  // when graded
   std::string solver_name;
   std::string inner_iteration;
   StopRule stop_rule = StopRule::paper;  // the rule the run stopped by
   Layout layout = Layout::paper;         // the layout made (never automatic)
   std::int64_t layout_holes = 0;         // cvt: the discs the run started from
+  std::int64_t closed_oblong_holes = 0;
+  std::int64_t closed_rim_holes = 0;  // spots that would leave less than the rim asked, made solid  // spots
+                                      // under kLeastSpotAxisRatio, made solid (issue 51)
   std::int64_t closed_small_holes = 0;  // spots under 0.76 (preview: 0.915) of the asked diameter, made solid
   RunResult run;                        // on this grid
   std::optional<CoarseLevel> coarse_start;  // the run on the pattern's grid before it, if any

@@ -1,5 +1,7 @@
 #include "pipeline/report.hpp"
 
+#include <fmt/format.h>
+
 namespace poreshell {
 namespace {
 
@@ -26,11 +28,13 @@ LevelReport level_report(const MeshOutput& m) {
             m.wall.high,
             static_cast<std::int64_t>(m.wall.probes),
             static_cast<std::int64_t>(m.wall.merged)};
-  l.parts = {m.topology.components, m.parts.removed_fragments, m.parts.removed_voids,
-             m.parts.removed_wall_voids, m.parts.removed_volume};
+  l.parts = {m.topology.components,      m.parts.removed_fragments,    m.parts.removed_voids,
+             m.parts.removed_wall_voids, m.parts.removed_volume,       m.parts.filled_cavities,
+             m.parts.filled_volume,      m.parts.largest_filled_volume};
   l.spots_at_iso = m.spots_at_iso;
   l.pores_from_euler = m.pores_from_euler;
   l.hole_table_dropped = static_cast<std::int64_t>(m.hole_table.dropped);
+  l.zones.rim_asked = m.zones.rim_asked;
   l.zones.rim = m.zones.rim;
   l.zones.keep_out_clearance = m.zones.keep_out_clearance;
   l.zones.holes_in_keep_outs = m.zones.holes_in_keep_outs;
@@ -70,7 +74,8 @@ Report make_report(const PipelineResult& r, const Options& options) {
                   r.solid.spacing_mm,
                   r.solid.seconds_sample,
                   static_cast<std::int64_t>(r.solid.samples),
-                  r.solid.incomplete_stencils};
+                  r.solid.incomplete_stencils,
+                  r.solid.wall_source};
   report.band = {static_cast<std::int64_t>(r.band_voxels), static_cast<std::int64_t>(r.ghosts),
                  r.band_stats.paper_ghosts, r.band_stats.closure_added,
                  static_cast<std::int64_t>(r.band_bytes)};
@@ -113,9 +118,24 @@ Report make_report(const PipelineResult& r, const Options& options) {
   s.energy_first = r.run.energy_first;
   s.energy_last = r.run.energy_last;
   s.energy_trace = r.run.energy_trace;
-  report.pattern = {r.spots.count,         r.closed_small_holes, r.spots.size_cv,   r.spots.mean_size,
-                    r.spots.area_fraction, r.spots.spacing_mean, r.spots.spacing_cv};
+  report.pattern = {r.spots.count,      r.closed_small_holes,  r.spots.size_cv,
+                    r.spots.mean_size,  r.spots.area_fraction, r.spots.spacing_mean,
+                    r.spots.spacing_cv, r.closed_oblong_holes, r.closed_rim_holes};
   for (const MeshOutput& m : r.meshes) report.outputs.push_back(level_report(m));
+  const ZoneAreas& z = r.zone_areas;
+  report.solid_zones = {z.surface, z.thin, z.creases, z.rims, z.keep_outs, z.solid};
+  // Issue 51: a rule that empties the model is news, said with the share each rule keeps solid.
+  const auto share = [&](double area) { return z.surface > 0.0 ? 100.0 * area / z.surface : 0.0; };
+  if (report.plan)
+    for (const LevelReport& l : report.outputs)
+      if (l.holes.porosity < 0.6 * report.plan->porosity)
+        report.warnings.push_back(fmt::format(
+            "the holes open {:.1f}% of the surface against the {:.1f}% asked (under 60% of it): the solid "
+            "zones "
+            "keep {:.0f}% of the surface (thin parts {:.0f}%, creases {:.0f}%, rims {:.0f}%, keep-outs "
+            "{:.0f}%); lower --thin-features or --crease-angle, or narrow --rim, to open more",
+            100.0 * l.holes.porosity, 100.0 * report.plan->porosity, share(z.solid), share(z.thin),
+            share(z.creases), share(z.rims), share(z.keep_outs)));
   report.unperforated_euler_characteristic = r.unperforated_euler;
   report.memory = {static_cast<std::int64_t>(r.band_bytes), static_cast<std::int64_t>(r.solver_bytes),
                    static_cast<std::int64_t>(r.peak_rss_after_band),

@@ -42,7 +42,7 @@ void validate(const Options& c) {
           "`wall` and `offset` shape the shell: use them with `mode` shell");
   require(c.max_memory_gb >= 0.0 && finite(c.max_memory_gb), "max_memory_gb",
           "`max_memory_gb` must be a positive number of GB");
-  require(c.rim >= 0.0 && finite(c.rim), "rim", "`rim` must be a width >= 0 in mm");
+  require(std::isnan(c.rim) || (c.rim >= 0.0 && finite(c.rim)), "rim", "`rim` must be a width >= 0 in mm");
   require(c.thin_feature_ratio >= 0.0 && finite(c.thin_feature_ratio), "thin_feature_ratio",
           "`thin_feature_ratio` must be >= 0 (a share of the hole diameter; 0: off)");
   require(c.crease_angle >= 0.0 && c.crease_angle < 180.0, "crease_angle",

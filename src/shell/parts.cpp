@@ -9,7 +9,7 @@
 
 namespace poreshell {
 
-PartsSummary keep_main_parts(TriangleMesh& mesh, double min_fraction) {
+PartsSummary keep_main_parts(TriangleMesh& mesh, double min_fraction, bool fill_cavities) {
   PartsSummary summary;
   DisjointSets parts(mesh.vertices.size());
   for (const auto& t : mesh.triangles)
@@ -38,21 +38,28 @@ PartsSummary keep_main_parts(TriangleMesh& mesh, double min_fraction) {
       ++summary.parts;
       continue;
     }
-    // Inward components at or above the threshold are cavities a designer made: kept as well.
+    // Inward components at or above the threshold: kept as the shell's own inside, or filled. Not among
+    // `voids`: the wall without pores has no such pocket of its own (it is part of its one inside).
     if (volume[r] < 0.0 && std::abs(volume[r]) >= threshold) {
-      keep[r] = 1;
+      if (!fill_cavities) {
+        keep[r] = 1;
+        continue;
+      }
+      ++summary.filled_cavities;
+      summary.filled_volume += std::abs(volume[r]);
+      summary.largest_filled_volume = std::max(summary.largest_filled_volume, std::abs(volume[r]));
       continue;
     }
     ++(volume[r] < 0.0 ? summary.removed_voids : summary.removed_fragments);
     summary.removed_volume += std::abs(volume[r]);
     summary.largest_removed_volume = std::max(summary.largest_removed_volume, std::abs(volume[r]));
   }
-  if (summary.removed_fragments + summary.removed_voids == 0) return summary;
+  if (summary.removed_fragments + summary.removed_voids + summary.filled_cavities == 0) return summary;
   // The removed voids' vertices, triangles (closed: E = 3F/2, so chi = V - F/2) and centroids.
   std::vector<std::int32_t> void_of(mesh.vertices.size(), -1);  // by root
   for (const std::int32_t root : component) {
     const auto r = static_cast<std::size_t>(root);
-    if (keep[r] || volume[r] >= 0.0 || void_of[r] >= 0) continue;
+    if (keep[r] || volume[r] >= 0.0 || std::abs(volume[r]) >= threshold || void_of[r] >= 0) continue;
     void_of[r] = static_cast<std::int32_t>(summary.voids.size());
     summary.voids.emplace_back();
   }

@@ -24,11 +24,17 @@ struct PartsSummary {
   };
   std::vector<Void> voids;
   std::int64_t removed_wall_voids = 0;  // of them, the wall's without pores as well (wall_voids_euler)
+  // Sealed cavities at or above the threshold filled (fill_cavities): pockets of the model's inside that
+  // no pore opens (the inside of a hollow tail pinched off from the body's), which trap resin or powder.
+  std::int64_t filled_cavities = 0;
+  double filled_volume = 0.0, largest_filled_volume = 0.0;  // |volume|, the mesh's units cubed
 };
 
 // Removes every connected component whose |volume| is below `min_fraction` times the largest
-// component's volume; returns what was kept and removed. Components are connected through shared
-// vertices; the mesh must be closed and consistently oriented.
-PartsSummary keep_main_parts(TriangleMesh& mesh, double min_fraction);
+// component's volume; returns what was kept and removed. With `fill_cavities`, every inward component
+// (a sealed cavity) goes whatever its size: removing its sheet fills it with solid. Without, cavities at
+// or above the threshold are kept (the inside of a shell without pores is the shell's own). Components
+// are connected through shared vertices; the mesh must be closed and consistently oriented.
+PartsSummary keep_main_parts(TriangleMesh& mesh, double min_fraction, bool fill_cavities = false);
 
 }  // namespace poreshell

@@ -18,6 +18,7 @@ Vec3 vec(const Point& p) {
 // milliseconds, beside seconds of meshing.
 ZoneCheck check_zones(std::span<const HoleDisc> holes, const Options& options, const PlacedSurface& placed) {
   ZoneCheck check;
+  check.rim_asked = options.rim;
   if (holes.empty()) return check;
   if (placed.mesh) {
     std::vector<Segment> boundary = boundary_segments(*placed.mesh);

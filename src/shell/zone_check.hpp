@@ -19,6 +19,7 @@ struct HoleDisc {
 };
 
 struct ZoneCheck {
+  double rim_asked = 0.0;  // the rim the run applied (Options::rim, the default resolved), mm
   // The least distance from a hole's edge (centre distance minus the radius) to the mesh's open
   // boundary; NaN without an open boundary or holes. A rim of R mm is honoured when this is >= R.
   double rim = std::numeric_limits<double>::quiet_NaN();

@@ -118,6 +118,7 @@ TEST(HoleTablePipeline, OneRecordPerPoreOfAnOpenHemisphere) {
   c.crease_angle = 0.0;
   c.layout = Layout::paper;  // its spots cut by the edge are the notches the table must drop (cvt has none)
   c.seed = 4;
+  c.rim = 0.0;  // no rim: the notches are the point (the default rim since issue 51 keeps holes off the edge)
   const Result r = perforate(hemisphere, c);
   const LevelReport& out = r.report.outputs.at(0);
   const std::vector<Hole>& holes = r.outputs.at(0).holes;

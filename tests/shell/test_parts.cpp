@@ -78,3 +78,24 @@ TEST(Parts, NothingToRemoveLeavesTheMeshAsItIs) {
 }
 
 }  // namespace
+
+// Issue 51: a perforated solid's sealed cavity traps resin whatever its size; with fill_cavities every
+// inward component goes (its sheet removed, the cavity is solid), the large ones counted as filled.
+TEST(Parts, FillCavitiesRemovesEverySealedCavity) {
+  TriangleMesh m;
+  add_sphere(m, Vec3(0, 0, 0), 10.0);
+  add_sphere(m, Vec3(30, 0, 0), 8.0);        // a second body, kept
+  add_sphere(m, Vec3(2, 0, 0), 1.0, true);   // a small void: removed as before
+  add_sphere(m, Vec3(30, 0, 0), 5.0, true);  // a large cavity: filled
+  const PartsSummary s = keep_main_parts(m, 0.01, true);
+  EXPECT_EQ(s.parts, 2);
+  EXPECT_EQ(s.removed_voids, 1);
+  ASSERT_EQ(s.voids.size(), 1u);  // the large one is no pocket of the wall for the Euler count
+  EXPECT_EQ(s.filled_cavities, 1);
+  const double cavity = 4.0 / 3.0 * std::numbers::pi * 125.0;
+  EXPECT_NEAR(s.filled_volume, cavity, 0.1 * cavity);
+  EXPECT_DOUBLE_EQ(s.largest_filled_volume, s.filled_volume);
+  const MeshTopology t = analyze_topology(m);
+  EXPECT_EQ(t.components, 2);
+  EXPECT_TRUE(t.closed() && t.manifold() && t.oriented());
+}
