@@ -333,7 +333,7 @@ def perforate(
     porosity=None,
     wall=None,
     offset="centered",
-    rim=0,
+    rim=None,
     keep_out=(),
     keep_out_boxes=(),
     grade=None,
@@ -371,9 +371,10 @@ def perforate(
 
     The printed solid:
       mode           'shell' (a wall, pores straight through it) or 'narrow_volume' (the paper's Fig. 3b)
-      wall           wall thickness in mm (default: the band's width, 3.81 voxels)
+      wall           wall thickness in mm (default: 2 mm with hole_diameter, else the band's width, 3.81 voxels)
       offset         'centered', 'inside' or 'outside' the surface
-      rim            mm of solid along the mesh's open boundary
+      rim            mm of solid along the mesh's open boundary (default: half a hole with hole_diameter,
+                     so that no hole is cut open by the outline, else none; 0 allows notches)
       keep_out       sequence of (x, y, z, r) solid spheres in mm (in the input's frame, scaled to mm)
       keep_out_boxes sequence of (x0, y0, z0, x1, y1, z1) solid boxes in mm (two opposite corners)
       vertex_fields  dict name -> (n,) array of per-vertex scalars of the mesh input, for the

@@ -103,7 +103,7 @@ def perforate(
     porosity: Optional[float] = ...,
     wall: Optional[float] = ...,
     offset: str = ...,
-    rim: float = ...,
+    rim: Optional[float] = ...,
     keep_out: Sequence[Sequence[float]] = ...,
     keep_out_boxes: Sequence[Sequence[float]] = ...,
     grade: Union[None, str, Mapping[str, Any]] = ...,

@@ -3,6 +3,7 @@
 // notches; diameters and spacings near the request, centres at the wall's middle, outward unit normals.
 
 #include <gtest/gtest.h>
+#include <optional>
 
 #include <algorithm>
 #include <cmath>
@@ -104,8 +105,8 @@ TEST(HoleTablePipeline, OneRecordPerPoreOfASphere) {
 }
 
 // An open sheet, its wall outside the surface: the spots the edge cuts are notches, not pores, and
-// measure no closed loop. Most are closed before meshing as pinholes (under 0.76 D by their band area);
-// seeds 1-5 leave 0, 0, 0, 1 and 0 notches, so seed 4 is taken for the table to have one to drop.
+// measure no closed loop. Most are closed before meshing as pinholes (under 0.76 D by their band area),
+// so most seeds leave none: the first seed that leaves one is taken, for the table to have one to drop.
 TEST(HoleTablePipeline, OneRecordPerPoreOfAnOpenHemisphere) {
   MeshInput hemisphere;
   hemisphere.mesh = upper_hemisphere(25.0, 48, 192);
@@ -117,13 +118,19 @@ TEST(HoleTablePipeline, OneRecordPerPoreOfAnOpenHemisphere) {
   c.thin_feature_ratio = 0.0;  // the sheet is a surface, not a thin part: measure every pore
   c.crease_angle = 0.0;
   c.layout = Layout::paper;  // its spots cut by the edge are the notches the table must drop (cvt has none)
-  c.seed = 4;
   c.rim = 0.0;  // no rim: the notches are the point (the default rim since issue 51 keeps holes off the edge)
-  const Result r = perforate(hemisphere, c);
+  std::optional<Result> notched;
+  for (std::uint64_t seed = 1; seed <= 8 && !notched; ++seed) {
+    c.seed = seed;
+    Result r = perforate(hemisphere, c);
+    const LevelReport& level = r.report.outputs.at(0);
+    if (level.spots_at_iso > level.pores_from_euler) notched = std::move(r);
+  }
+  ASSERT_TRUE(notched) << "no notch along the edge with seeds 1-8";
+  const Result& r = *notched;
   const LevelReport& out = r.report.outputs.at(0);
   const std::vector<Hole>& holes = r.outputs.at(0).holes;
   EXPECT_GT(out.pores_from_euler, 20);
-  EXPECT_GT(out.spots_at_iso, out.pores_from_euler) << "no notch along the edge";
   EXPECT_EQ(static_cast<std::int64_t>(holes.size()), out.pores_from_euler);
   EXPECT_EQ(out.hole_table_dropped, out.spots_at_iso - out.pores_from_euler);
   expect_holes_as_asked(holes, out.hole_table_dropped, 6.0, 10.0, 25.0 + 0.75);
