@@ -43,8 +43,10 @@ std::int64_t close_small_spots(const NarrowBand& band, std::span<double> phi, do
 // 6 / 10 mm the band's ratio tracks the mesh's (0.526 against 0.52 for the one oblong hole; the next 0.76
 // against 0.79).
 inline constexpr double kLeastSpotAxisRatio = 0.6;
+// `kept` (optional): spots whose mean closest point it accepts stay whatever their shape (the notches
+// an open edge cuts where `rim` 0 allows them).
 std::int64_t close_oblong_spots(const NarrowBand& band, std::span<double> phi, double level,
-                                double min_axis_ratio);
+                                double min_axis_ratio, const std::function<bool(const Vec3&)>& kept = {});
 
 // The pores as a printer sees them: each spot's area on the surface (its band voxels times h^3 over
 // the band's thickness 2 delta) and the diameter of the disc of that area, in the grid's length unit.
