@@ -111,7 +111,7 @@ void print_summary(const poreshell::Options& c, const poreshell::Report& r,
                r.pattern.closed_small_holes, plural);
   if (r.pattern.closed_oblong_holes > 0)
     fmt::print(
-        "  closed   {} oblong hole{} (axis ratio under 0.6 on the surface: slots beside solid zones, "
+        "  closed   {} oblong hole{} (axis ratio under 0.65 on the surface: slots beside solid zones, "
         "creases or tight bends)\n",
         r.pattern.closed_oblong_holes, r.pattern.closed_oblong_holes == 1 ? "" : "s");
   if (r.pattern.closed_rim_holes > 0)

@@ -171,7 +171,7 @@ struct Report {
     std::int64_t closed_small_holes = 0;
     double size_cv = 0.0, mean_size_voxels = 0.0, area_fraction = 0.0, spacing_mean_voxels = 0.0,
            spacing_cv = 0.0;
-    // Spots whose axis ratio on the surface is under 0.6 (a slot between solid zones, across a crease,
+    // Spots whose axis ratio on the surface is under 0.65 (a slot between solid zones, across a crease,
     // on a tight bend) made solid, so that no written hole is oblong (issue 51).
     std::int64_t closed_oblong_holes = 0;
     // Spots that would leave less than the asked rim (as discs of their area), made solid (issue 51).

@@ -73,7 +73,7 @@ std::int64_t close_small_spots(const NarrowBand& band, std::span<double> phi, do
 }
 
 std::int64_t close_oblong_spots(const NarrowBand& band, std::span<double> phi, double level,
-                                double min_axis_ratio) {
+                                double min_axis_ratio, const std::function<bool(const Vec3&)>& kept) {
   const std::vector<std::int32_t> label = label_spots(band, phi, level);
   struct Moments {
     double w = 0.0;
@@ -97,6 +97,7 @@ std::int64_t close_oblong_spots(const NarrowBand& band, std::span<double> phi, d
     const Moments& m = spots[l];
     if (!(m.w > 0.0)) continue;
     const Vec3 mean = m.sum / m.w;
+    if (kept && kept(mean)) continue;
     const Eigen::Matrix3d covariance = m.outer / m.w - mean * mean.transpose();
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance, Eigen::EigenvaluesOnly);
     const Vec3 lambda = eigen.eigenvalues();  // ascending: the normal's, the minor axis's, the major's
