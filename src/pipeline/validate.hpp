@@ -12,7 +12,9 @@ namespace poreshell {
 // resolved. Throws OptionError(voxel_size) for a coarser one.
 double choose_voxel_size(double asked, const PatternPlan& plan);
 
-// A reduction bound that could let the reduced wall's sides meet is refused.
+// A reduction bound that could let the reduced wall's sides meet is refused (the default reduces too).
 void check_reduction(const Options& options, double wall_mm);
+// x rounded down to three significant digits, so that advice of "at most" it holds when followed.
+double rounded_down(double x);
 
 }  // namespace poreshell

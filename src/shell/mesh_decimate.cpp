@@ -148,6 +148,31 @@ double reduced_distance(const OriginalSurface& surface, const TriangleMesh& orig
   return std::max(to_original, searched_vertex_distance(original, reduced, collapsed.carrier, to_original));
 }
 
+// The sampled check (deviation_check.hpp) at points the collapses never chose: from points on the
+// reduced surface to the original's sheet through their triangle's corners (at least the distance to
+// the whole surface, and no tree over the original to build: on the bunny's 2.1 M triangles that tree
+// and check_deviation()'s queries took 3.5 s of a 15 s reduction), and from points on the original to a
+// tree of the reduced mesh.
+DeviationCheck sampled_check(const OriginalSurface& original, const TriangleMesh& ordered,
+                             const CollapsedMesh& collapsed, const TriangleMesh& reduced) {
+  constexpr std::uint64_t kSeed = 49;
+  DeviationCheck check;
+  const std::vector<SurfaceSample> on_reduced =
+      area_samples(ordered.vertices, collapsed.triangles, kDeviationSamplesPerSide, kSeed);
+  check.reduced_to_full = std::sqrt(largest_over(on_reduced.size(), 0.0, [&](std::size_t i, double d) {
+    const auto& t = collapsed.triangles[on_reduced[i].triangle];
+    return std::max(d, original.distance2_from(on_reduced[i].point, {t[0], t[1], t[2]}, d));  // squared
+  }));
+  const MeshSurface surface(reduced);
+  const std::vector<SurfaceSample> on_full =
+      area_samples(ordered.vertices, ordered.triangles, kDeviationSamplesPerSide, other_side_seed(kSeed));
+  check.full_to_reduced = largest_over(on_full.size(), 0.0, [&](std::size_t i, double d) {
+    return std::max(d, surface.distance(on_full[i].point));
+  });
+  check.samples = 2 * kDeviationSamplesPerSide;
+  return check;
+}
+
 // Interleaves the bits of three 21-bit integers (a Morton code).
 std::uint64_t spread_bits(std::uint64_t x) {
   x &= 0x1fffff;
@@ -272,10 +297,18 @@ DecimateResult decimate_mesh(TriangleMesh& mesh, const DecimateOptions& options)
       tolerance *= 0.9 * options.max_distance / distance;
       continue;
     }
+    // The collapses' points miss some of a triangle's stray (issue 49: 0.22 mm against 0.05 on the pores'
+    // rims): the sampled check, at points the collapses never chose, has the last word.
+    const DeviationCheck sampled = sampled_check(original, ordered, collapsed, reduced);
+    if (sampled.max() > options.max_distance) {
+      tolerance *= 0.9 * options.max_distance / sampled.max();
+      continue;
+    }
+    result.sampled = sampled;
     result.topology = analyze_topology(reduced);
     check_result(before, *result.topology, volume_tolerance);
     result.triangles_after = static_cast<std::int64_t>(reduced.triangles.size());
-    result.max_distance = distance;
+    result.max_distance = std::max(distance, sampled.max());
     result.collapses = counts;
     result.attempts = attempt + 1;
     result.reached_target = result.triangles_after <= options.max_triangles;

@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "geometry/mesh.hpp"
+#include "shell/deviation_check.hpp"
 
 namespace poreshell {
 
@@ -45,6 +46,9 @@ struct DecimateResult {
   // (at least the distance to the reduced surface, which is searched for only where that is over the
   // bound). Never above DecimateOptions::max_distance.
   double max_distance = 0.0;
+  // Measured apart from the collapses' own points, by sampling both surfaces (deviation_check.hpp):
+  // its max() too is never above DecimateOptions::max_distance.
+  DeviationCheck sampled;
   bool reached_target = false;  // false when the distance bound or the triangle shapes stopped it first
   CollapseCounts collapses;     // of the attempt returned
   int attempts = 0;             // reductions made: more than 1 where the distance measured overshot
