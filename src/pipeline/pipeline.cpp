@@ -332,7 +332,12 @@ PipelineResult run_pipeline(const Input& input, const PreparedInput& prepared, R
                    : 0;
     if (reducing) {
       const std::int64_t target = options.max_triangles > 0 ? options.max_triangles : 4;
-      out.reduction = decimate_mesh(out.mesh, {target, options.max_deviation, share.part(meshed, reduced)});
+      // As far as the bound allows: by the fans' bounds alone, one attempt that keeps the bound everywhere
+      // (mesh_decimate.hpp); to a count: with the checks too, which reach further.
+      const DistanceRule rule =
+          options.max_triangles > 0 ? DistanceRule::kBoundOrCheck : DistanceRule::kBoundOnly;
+      out.reduction =
+          decimate_mesh(out.mesh, {target, options.max_deviation, share.part(meshed, reduced), rule});
       // A budget is a promise to the printer or the viewer downstream: not met, nothing is written.
       if (options.max_triangles > 0 && !out.reduction->reached_target)
         throw OptionError(

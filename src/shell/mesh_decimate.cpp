@@ -38,10 +38,11 @@ namespace poreshell {
 namespace {
 
 // The result meets the bound by construction but for the removed vertices' distances, measured to
-// the triangles they were last distributed over only. Should the measured distance exceed the bound
-// all the same, the reduction is redone from the original with the tolerance scaled down by the
-// overshoot.
-constexpr int kAttempts = 3;
+// the triangles they were last distributed over only, and for the points between those the checked
+// collapses looked at. Should the measured or the sampled distance exceed the bound all the same, the
+// reduction is redone from the original with the tolerance scaled down by the overshoot, and the last
+// time by the fans' bounds alone (DistanceRule::kBoundOnly), which hold everywhere.
+constexpr int kAttempts = 4;
 
 void validate(const DecimateOptions& options) {
   if (options.max_triangles < 4)
@@ -286,8 +287,13 @@ DecimateResult decimate_mesh(TriangleMesh& mesh, const DecimateOptions& options)
     const StageProgress part = progress.part(attempt == 0 ? 0.03 : 1.0 - 0.03 * std::pow(0.5, attempt - 1),
                                              1.0 - 0.03 * std::pow(0.5, attempt));
     CollapseCounts counts;
+    // The last attempt takes the fans' bounds alone, which hold at every point, at the bound asked: a
+    // safety net, where the checked collapses overshot the sampled check three times.
+    const bool last = attempt + 1 == kAttempts;
+    if (last) tolerance = options.max_distance;
+    const DistanceRule rule = last ? DistanceRule::kBoundOnly : options.rule;
     const CollapsedMesh collapsed = collapse_edges(ordered, opposite, original, options.max_triangles,
-                                                   tolerance, options.rule, counts, part.part(0.0, 0.95));
+                                                   tolerance, rule, counts, part.part(0.0, 0.95));
     TriangleMesh reduced = compact(ordered, collapsed.triangles);
     part.advance(0.96);
     // Both ways: the original vertices, a dense sampling of it, to the reduced surface as well.

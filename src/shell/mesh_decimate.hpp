@@ -16,6 +16,9 @@ namespace poreshell {
 // How each collapse is kept within the distance bound: by a bound that follows from the triangles
 // around it alone where one does (edge_collapse.cpp, fan_distance_bound()), else by asking the
 // original surface at points; or by either alone, to compare (bench_reduce, tests).
+// kBoundOnly reduces less (the bunny, 8 mm holes at 14 mm, 0.02 mm: 881 k triangles against 793 k) in one
+// attempt that keeps the bound everywhere, where the checked collapses overshoot between their points and
+// are redone with a smaller tolerance (there 45 s against 14 s): the default output's rule (issue 49).
 enum class DistanceRule { kBoundOrCheck, kCheckOnly, kBoundOnly };
 
 struct DecimateOptions {
