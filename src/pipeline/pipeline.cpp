@@ -336,8 +336,8 @@ PipelineResult run_pipeline(const Input& input, const PreparedInput& prepared, R
       // (mesh_decimate.hpp); to a count: with the checks too, which reach further.
       const DistanceRule rule =
           options.max_triangles > 0 ? DistanceRule::kBoundOrCheck : DistanceRule::kBoundOnly;
-      out.reduction =
-          decimate_mesh(out.mesh, {target, options.max_deviation, share.part(meshed, reduced), rule});
+      out.reduction = decimate_mesh(out.mesh, {target, reduction_bound(options, result.solid.wall_mm),
+                                               share.part(meshed, reduced), rule});
       // A budget is a promise to the printer or the viewer downstream: not met, nothing is written.
       if (options.max_triangles > 0 && !out.reduction->reached_target)
         throw OptionError(
@@ -345,8 +345,9 @@ PipelineResult run_pipeline(const Input& input, const PreparedInput& prepared, R
             fmt::format("`max_triangles` {} cannot be met within `max_deviation` {:g} mm: the reduction "
                         "stopped at {} triangles, the fewest it reaches within that bound; ask for at least "
                         "{}, or allow a larger `max_deviation` (at most a quarter of the wall, {:g} mm)",
-                        options.max_triangles, options.max_deviation, out.reduction->triangles_after,
-                        out.reduction->triangles_after, rounded_down(0.25 * result.solid.wall_mm)));
+                        options.max_triangles, reduction_bound(options, result.solid.wall_mm),
+                        out.reduction->triangles_after, out.reduction->triangles_after,
+                        rounded_down(0.25 * result.solid.wall_mm)));
     }
     // A reduction checked its result already.
     out.topology = out.reduction && out.reduction->topology

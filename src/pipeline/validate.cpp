@@ -2,6 +2,7 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -123,10 +124,15 @@ double rounded_down(double x) {
   return r;
 }
 
+double reduction_bound(const Options& c, double wall_mm) {
+  return c.max_deviation == kDefaultMaxDeviation ? std::min(c.max_deviation, 0.25 * wall_mm)
+                                                 : c.max_deviation;
+}
+
 void check_reduction(const Options& c, double wall_mm) {
   // The advice is rounded down so that following it is accepted (issue 47, item 7).
   require(
-      c.max_deviation <= 0.25 * wall_mm, "max_deviation",
+      reduction_bound(c, wall_mm) <= 0.25 * wall_mm, "max_deviation",
       fmt::format("`max_deviation` {:g} mm is more than a quarter of the {:g} mm wall: the reduced wall's "
                   "two sides could meet; use at most {:g} mm",
                   c.max_deviation, wall_mm, rounded_down(0.25 * wall_mm)));
