@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
 
 #include "band/memory_estimate.hpp"
 #include "core/error.hpp"
@@ -336,8 +337,21 @@ PipelineResult run_pipeline(const Input& input, const PreparedInput& prepared, R
       // (mesh_decimate.hpp); to a count: with the checks too, which reach further.
       const DistanceRule rule =
           options.max_triangles > 0 ? DistanceRule::kBoundOrCheck : DistanceRule::kBoundOnly;
-      out.reduction = decimate_mesh(out.mesh, {target, reduction_bound(options, result.solid.wall_mm),
-                                               share.part(meshed, reduced), rule});
+      const DecimateOptions decimate{target, reduction_bound(options, result.solid.wall_mm),
+                                     share.part(meshed, reduced), rule};
+      if (options.max_triangles > 0) {
+        out.reduction = decimate_mesh(out.mesh, decimate);
+      } else {
+        // The default's reduction is an economy, never a reason to fail a run: where its result fails a
+        // check (a std::runtime_error, the mesh left as it was), the full isosurface is written.
+        try {
+          out.reduction = decimate_mesh(out.mesh, decimate);
+        } catch (const Error&) {
+          throw;  // cancelled, or bad input: as anywhere else
+        } catch (const std::runtime_error&) {
+          out.reduction.reset();
+        }
+      }
       // A budget is a promise to the printer or the viewer downstream: not met, nothing is written.
       if (options.max_triangles > 0 && !out.reduction->reached_target)
         throw OptionError(
