@@ -233,13 +233,14 @@ std::optional<Command> parse_command_line(int argc, const char* const* argv) {
       ->type_name("X,Y,Z,R");
   app.add_option("--max-triangles", options.max_triangles,
                  "reduce each output to at most N triangles, keeping it closed, manifold and within "
-                 "--max-deviation of the meshed surface")
+                 "--max-deviation of the full isosurface; fails naming the fewest that keep the bound")
       ->type_name("N")
       ->check(number_above(0.0, true));
   app.add_option("--max-deviation", options.max_deviation,
-                 "how far (mm) the reduced surface may lie from the meshed one; keep it below half the wall")
+                 "the written surface lies within this distance (mm, both ways, checked) of the full "
+                 "isosurface, with fewer triangles where the shape allows; 0: the full isosurface")
       ->type_name("MM")
-      ->check(number_above(0.0, false))
+      ->check(number_above(0.0, true))
       ->capture_default_str();
   app.add_option("--keep-out-mask", options.keep_out_mask,
                  "solid wherever this vertex property of the --mesh PLY file is 1 (a painted 0/1 mask)")

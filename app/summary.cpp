@@ -167,9 +167,10 @@ void print_summary(const poreshell::Options& c, const poreshell::Report& r,
         m.holes.count, m.holes.diameter_mean, m.holes.diameter_cv, m.holes.spacing_mean, m.holes.spacing_cv,
         m.holes.porosity);
     if (m.reduction)
-      fmt::print("; reduced {} -> {} triangles, {:.3g} mm from the meshed surface{}",
-                 m.reduction->triangles_before, m.reduction->triangles_after, m.reduction->max_distance,
-                 m.reduction->reached_target ? "" : " (the deviation bound stopped it)");
+      fmt::print(
+          "; reduced {} -> {} triangles, within {:.3g} mm of the full isosurface (checked at {} points)",
+          m.reduction->triangles_before, m.reduction->triangles_after, m.reduction->max_distance,
+          m.reduction->sampled_points);
     if (m.parts.removed_fragments + m.parts.removed_voids > 0)
       fmt::print("; removed {} specks and {} sealed voids ({:.3g} mm^3{})", m.parts.removed_fragments,
                  m.parts.removed_voids, m.parts.removed_volume,

@@ -160,7 +160,7 @@ struct Options {
   bool keep_fragments = false;
   double min_part_fraction = 0.01;
   std::int64_t max_triangles = 0;  // reduce each output to at most this many triangles; 0: as meshed
-  double max_deviation = 0.05;     // mm, bound on the reduction's distance from the meshed surface
+  double max_deviation = 0.02;     // mm, bound on the reduction's distance from the full isosurface (0: none)
 
   // The model, eq. (2.1), in the paper's frame (the grid's longest side is 1).
   double alpha = 1400.0;

@@ -46,6 +46,10 @@ struct ReductionReport {
   std::int64_t triangles_before = 0, triangles_after = 0;
   double max_distance = 0.0;  // mm
   bool reached_target = false;
+  // mm: the largest distance found by sampling both surfaces apart from the reduction's own points
+  // (within max_distance), and how many points that measured.
+  double sampled_distance = 0.0;
+  std::int64_t sampled_points = 0;
 };
 
 struct WallReport {

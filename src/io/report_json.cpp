@@ -54,6 +54,8 @@ json level_json(const LevelReport& m, const Report& r) {
           {"reduction", m.reduction ? json{{"triangles_before", m.reduction->triangles_before},
                                            {"triangles_after", m.reduction->triangles_after},
                                            {"max_distance_mm", m.reduction->max_distance},
+                                           {"sampled_distance_mm", m.reduction->sampled_distance},
+                                           {"sampled_points", m.reduction->sampled_points},
                                            {"reached_target", m.reduction->reached_target}}
                                     : json(nullptr)},
           {"wall",

@@ -20,7 +20,8 @@ LevelReport level_report(const MeshOutput& m) {
              m.holes.cell_area_cv};
   if (m.reduction)
     l.reduction = ReductionReport{m.reduction->triangles_before, m.reduction->triangles_after,
-                                  m.reduction->max_distance, m.reduction->reached_target};
+                                  m.reduction->max_distance,     m.reduction->reached_target,
+                                  m.reduction->sampled.max(),    m.reduction->sampled.samples};
   l.wall = {m.wall.median,
             m.wall.min,
             m.wall.max,

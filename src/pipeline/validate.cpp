@@ -1,5 +1,8 @@
 #include "pipeline/validate.hpp"
 
+#include <fmt/core.h>
+
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -96,8 +99,11 @@ void validate(const Options& c) {
           "`min_part_fraction` must be a share of the largest part's volume in [0, 1)");
   require(c.max_triangles == 0 || c.max_triangles >= 4, "max_triangles",
           "`max_triangles` must be at least 4 (0: keep every triangle)");
-  require(c.max_deviation > 0.0 && finite(c.max_deviation), "max_deviation",
-          "`max_deviation` must be a positive length in mm");
+  require(c.max_deviation >= 0.0 && finite(c.max_deviation), "max_deviation",
+          "`max_deviation` must be a length in mm, at least 0 (0: the full isosurface, no reduction)");
+  require(c.max_triangles == 0 || c.max_deviation > 0.0, "max_triangles",
+          "`max_triangles` needs a `max_deviation` above 0 mm to reduce within: drop `max_deviation` 0 "
+          "(default 0.02 mm) or `max_triangles`");
 }
 
 double choose_voxel_size(double asked, const PatternPlan& plan) {
@@ -109,10 +115,27 @@ double choose_voxel_size(double asked, const PatternPlan& plan) {
   return asked;
 }
 
+double rounded_down(double x) {
+  if (!(x > 0.0) || !std::isfinite(x)) return x;
+  const double unit = std::pow(10.0, std::floor(std::log10(x)) - 2.0);  // three significant digits
+  double r = std::floor(x / unit) * unit;
+  // Printing with {:g} must give a number no larger than x, whatever the last bit of r.
+  while (std::stod(fmt::format("{:g}", r)) > x) r -= unit;
+  return r;
+}
+
+double reduction_bound(const Options& c, double wall_mm) {
+  return c.max_deviation == kDefaultMaxDeviation ? std::min(c.max_deviation, 0.25 * wall_mm)
+                                                 : c.max_deviation;
+}
+
 void check_reduction(const Options& c, double wall_mm) {
-  require(c.max_triangles == 0 || c.max_deviation <= 0.25 * wall_mm, "max_deviation",
-          "`max_deviation` " + mm(c.max_deviation) + " mm is more than a quarter of the " + mm(wall_mm) +
-              " mm wall: the reduced wall's two sides could meet; use at most " + mm(0.25 * wall_mm) + " mm");
+  // The advice is rounded down so that following it is accepted (issue 47, item 7).
+  require(
+      reduction_bound(c, wall_mm) <= 0.25 * wall_mm, "max_deviation",
+      fmt::format("`max_deviation` {:g} mm is more than a quarter of the {:g} mm wall: the reduced wall's "
+                  "two sides could meet; use at most {:g} mm",
+                  c.max_deviation, wall_mm, rounded_down(0.25 * wall_mm)));
 }
 
 }  // namespace poreshell

@@ -189,7 +189,7 @@ TEST(Api, EveryOptionsErrorNamesTheOption) {
       {"hole_diameter", [](Options& o) { o.hole_diameter = -6; }},
       {"grade", [](Options& o) { o.grade = Grade{}; }},
       {"max_triangles", [](Options& o) { o.max_triangles = 2; }},
-      {"max_deviation", [](Options& o) { o.max_deviation = 0; }},
+      {"max_deviation", [](Options& o) { o.max_deviation = -1; }},
   };
   std::set<std::string> named;
   for (const auto& [option, spoil] : cases) {

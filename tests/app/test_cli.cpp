@@ -384,8 +384,9 @@ TEST_F(Cli, OutputFormatFollowsTheExtensionAndUnknownOnesFailBeforeRunning) {
 }
 
 TEST_F(Cli, UnitsScaleTheOutputToMillimetresAndModesAreSelectable) {
-  ASSERT_EQ(run(kSmallRun + " -o mm.stl --report mm.json").exit_code, 0);
-  ASSERT_EQ(run(kSmallRun + " --units cm -o cm.stl --report cm.json").exit_code, 0);
+  // The full isosurfaces (--max-deviation 0): a reduction's bound is in mm, whatever the input's unit.
+  ASSERT_EQ(run(kSmallRun + " --max-deviation 0 -o mm.stl --report mm.json").exit_code, 0);
+  ASSERT_EQ(run(kSmallRun + " --max-deviation 0 --units cm -o cm.stl --report cm.json").exit_code, 0);
   const auto mm = nlohmann::json::parse(read_file(work() / "mm.json"));
   const auto cm = nlohmann::json::parse(read_file(work() / "cm.json"));
   EXPECT_EQ(mm["units"]["input"], "mm");
