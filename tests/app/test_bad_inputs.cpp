@@ -389,7 +389,7 @@ std::vector<Row> rows() {
        "see poreshell --help", kOptionRun},
       {"--max-triangles out of reach", "", "", "--resolution 40 --max-triangles 50 --max-deviation 0.01", 1,
        "--max-triangles 50 cannot be met within --max-deviation 0.01 mm", "ask for at least", kOptionRun},
-      {"--max-deviation 0", "", "", "--max-deviation 0", 2, "--max-deviation: must be a number > 0",
+      {"--max-deviation negative", "", "", "--max-deviation -1", 2, "--max-deviation: must be a number >= 0",
        "see poreshell --help", kOptionRun},
       {"--max-memory 0", "", "", "--max-memory 0", 2, "--max-memory: must be a number > 0",
        "see poreshell --help", kOptionRun},
