@@ -54,6 +54,7 @@ TEST(Estimate, PreviewIsEstimatedAsThePaintedSurfaceAndMatchesTheRun) {
   EXPECT_NEAR(preview.ply_bytes, bytes, 0.15 * bytes);
 
   o.preview = false;
+  o.max_deviation = 0.0;  // the full isosurface
   const Estimate full = estimate(input, o);
   EXPECT_FALSE(full.preview);
   EXPECT_LT(preview.seconds, 0.5 * full.seconds) << "a preview solves nothing";
@@ -105,7 +106,13 @@ TEST(Estimate, ATinyModelGetsTheUnitThatMakesItAUsualSize) {
 TEST(Estimate, AReductionAddsItsTimeAndMemory) {
   const Input input = sphere(400.0);  // about 84 million triangles meshed
   Options o = holes(6.0, 10.0);
+  const Estimate bounded = estimate(input, o);  // the default: reduced as far as 0.02 mm allows
+  o.max_deviation = 0.0;
   const Estimate whole = estimate(input, o);
+  EXPECT_LT(bounded.triangles, 0.5 * whole.triangles);
+  EXPECT_GT(bounded.peak_bytes, whole.peak_bytes + 100.0 * whole.triangles);
+  EXPECT_GT(bounded.seconds, whole.seconds);
+  o.max_deviation = 0.05;
   o.max_triangles = 100000;
   const Estimate reduced = estimate(input, o);
   EXPECT_EQ(reduced.triangles, 100000.0);
