@@ -120,13 +120,15 @@ TEST(HoleTablePipeline, OneRecordPerPoreOfAnOpenHemisphere) {
   c.layout = Layout::paper;  // its spots cut by the edge are the notches the table must drop (cvt has none)
   c.rim = 0.0;  // no rim: the notches are the point (the default rim since issue 51 keeps holes off the edge)
   std::optional<Result> notched;
-  for (std::uint64_t seed = 1; seed <= 8 && !notched; ++seed) {
+  for (std::uint64_t seed : {4, 1, 2, 3, 5, 6, 7, 8}) {  // 4 the first that leaves one today
+    if (notched) break;
     c.seed = seed;
     Result r = perforate(hemisphere, c);
     const LevelReport& level = r.report.outputs.at(0);
     if (level.spots_at_iso > level.pores_from_euler) notched = std::move(r);
   }
   ASSERT_TRUE(notched) << "no notch along the edge with seeds 1-8";
+  std::printf("the first notch: seed %llu\n", static_cast<unsigned long long>(c.seed));
   const Result& r = *notched;
   const LevelReport& out = r.report.outputs.at(0);
   const std::vector<Hole>& holes = r.outputs.at(0).holes;
