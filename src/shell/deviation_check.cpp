@@ -8,18 +8,11 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/splitmix.hpp"
 
 namespace poreshell {
 namespace {
 
-// A counter-based generator (splitmix64): sample i's numbers depend on the seed and i alone, so the
-// points are the same however the work is split.
-std::uint64_t mix(std::uint64_t x) {
-  x += 0x9e3779b97f4a7c15ULL;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
 double unit(std::uint64_t x) {
   return static_cast<double>(x >> 11) * 0x1.0p-53;
 }
@@ -41,12 +34,12 @@ std::vector<SurfaceSample> area_samples(std::span<const Vec3> vertices,
   if (!(total > 0.0)) throw InputError("the mesh to measure the deviation on has no area");
   std::vector<SurfaceSample> samples(static_cast<std::size_t>(count));
   for (std::int64_t i = 0; i < count; ++i) {
-    const std::uint64_t r = mix(seed ^ mix(static_cast<std::uint64_t>(i)));
+    const std::uint64_t r = splitmix64(seed ^ splitmix64(static_cast<std::uint64_t>(i)));
     const double at = unit(r) * total;
     const auto f = static_cast<std::size_t>(std::min<std::ptrdiff_t>(
         std::upper_bound(cumulative.begin(), cumulative.end(), at) - cumulative.begin(),
         static_cast<std::ptrdiff_t>(cumulative.size()) - 1));
-    double u = unit(mix(r + 1)), v = unit(mix(r + 2));
+    double u = unit(splitmix64(r + 1)), v = unit(splitmix64(r + 2));
     if (u + v > 1.0) u = 1.0 - u, v = 1.0 - v;  // fold into the triangle: uniform over it
     const auto& t = triangles[f];
     const Vec3 &a = vertices[static_cast<std::size_t>(t[0])], &b = vertices[static_cast<std::size_t>(t[1])],
@@ -57,7 +50,7 @@ std::vector<SurfaceSample> area_samples(std::span<const Vec3> vertices,
 }
 
 std::uint64_t other_side_seed(std::uint64_t seed) {
-  return mix(seed);
+  return splitmix64(seed);
 }
 
 namespace {

@@ -2,21 +2,12 @@
 
 #include <tbb/parallel_for.h>
 
+#include "core/splitmix.hpp"
+
 namespace poreshell {
-namespace {
-
-// splitmix64 finaliser: a well-mixed 64-bit hash.
-std::uint64_t mix(std::uint64_t x) {
-  x += 0x9e3779b97f4a7c15ULL;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
-
-}  // namespace
 
 double uniform_noise(std::uint64_t seed, std::int64_t key) {
-  const std::uint64_t bits = mix(mix(seed) ^ static_cast<std::uint64_t>(key));
+  const std::uint64_t bits = splitmix64(splitmix64(seed) ^ static_cast<std::uint64_t>(key));
   return static_cast<double>(bits >> 11) * 0x1.0p-52 - 1.0;  // 53 random bits onto [-1, 1)
 }
 

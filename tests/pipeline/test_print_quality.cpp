@@ -107,33 +107,6 @@ void expect_round_whole_holes(const std::vector<Hole>& holes, const char* what,
               least_circularity);
 }
 
-// A closed surface of revolution about z from a profile of (rho, z) that starts and ends on the axis,
-// outward when the profile runs from bottom to top.
-Mesh revolve(const std::vector<std::array<double, 2>>& profile, int segments) {
-  Mesh m;
-  const int n = static_cast<int>(profile.size());
-  m.vertices.push_back({0, 0, profile.front()[1]});
-  for (int k = 1; k + 1 < n; ++k)
-    for (int s = 0; s < segments; ++s) {
-      const double a = 2 * std::numbers::pi * s / segments;
-      m.vertices.push_back({profile[k][0] * std::cos(a), profile[k][0] * std::sin(a), profile[k][1]});
-    }
-  const auto top = static_cast<std::int32_t>(m.vertices.size());
-  m.vertices.push_back({0, 0, profile.back()[1]});
-  const auto at = [&](int k, int s) {
-    return static_cast<std::int32_t>(1 + (k - 1) * segments + s % segments);
-  };
-  for (int s = 0; s < segments; ++s) {
-    m.triangles.push_back({0, at(1, s + 1), at(1, s)});
-    for (int k = 1; k + 2 < n; ++k) {
-      m.triangles.push_back({at(k, s), at(k, s + 1), at(k + 1, s + 1)});
-      m.triangles.push_back({at(k, s), at(k + 1, s + 1), at(k + 1, s)});
-    }
-    m.triangles.push_back({at(n - 2, s), at(n - 2, s + 1), top});
-  }
-  return m;
-}
-
 // A sphere about the origin with a capped cylinder (the stalk) standing on its north pole along +z:
 // one closed surface, welded along the circle where they meet (a concave 84 degree crease).
 struct Stalk {
@@ -154,7 +127,7 @@ Mesh sphere_with_stalk(const Stalk& g) {
   for (int i = 1; i <= along; ++i) profile.push_back({g.radius, g.base() + g.length * i / along});
   profile.push_back({0.5 * g.radius, g.tip()});
   profile.push_back({0.0, g.tip()});
-  return revolve(profile, 96);
+  return test_support::revolve(profile, 96);
 }
 
 // A cube [-a, a]^3 with edges and corners rounded with radius r: a point p of the cube maps to

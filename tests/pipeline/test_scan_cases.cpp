@@ -35,33 +35,6 @@ using namespace poreshell;
 
 namespace {
 
-// A closed surface of revolution about z from a profile of (rho, z) that starts and ends on the axis,
-// outward when the profile runs from bottom to top.
-Mesh revolve(const std::vector<std::array<double, 2>>& profile, int segments) {
-  Mesh m;
-  const int n = static_cast<int>(profile.size());
-  m.vertices.push_back({0, 0, profile.front()[1]});
-  for (int k = 1; k + 1 < n; ++k)
-    for (int s = 0; s < segments; ++s) {
-      const double a = 2 * std::numbers::pi * s / segments;
-      m.vertices.push_back({profile[k][0] * std::cos(a), profile[k][0] * std::sin(a), profile[k][1]});
-    }
-  const auto top = static_cast<std::int32_t>(m.vertices.size());
-  m.vertices.push_back({0, 0, profile.back()[1]});
-  const auto at = [&](int k, int s) {
-    return static_cast<std::int32_t>(1 + (k - 1) * segments + s % segments);
-  };
-  for (int s = 0; s < segments; ++s) {
-    m.triangles.push_back({0, at(1, s + 1), at(1, s)});
-    for (int k = 1; k + 2 < n; ++k) {
-      m.triangles.push_back({at(k, s), at(k, s + 1), at(k + 1, s + 1)});
-      m.triangles.push_back({at(k, s), at(k + 1, s + 1), at(k + 1, s)});
-    }
-    m.triangles.push_back({at(n - 2, s), at(n - 2, s + 1), top});
-  }
-  return m;
-}
-
 // The sphere, a neck of radius `neck` from its north pole up `neck_length`, then the tail: a cylinder of
 // radius `tail` and length `tail_length`, capped by a half sphere.
 Mesh sphere_with_sealed_tail(double sphere, double neck, double neck_length, double tail,
@@ -81,7 +54,7 @@ Mesh sphere_with_sealed_tail(double sphere, double neck, double neck_length, dou
     const double a = std::numbers::pi / 2 * i / 8;
     profile.push_back({i == 8 ? 0.0 : tail * std::cos(a), start + tail_length + tail * std::sin(a)});
   }
-  return revolve(profile, 96);
+  return test_support::revolve(profile, 96);
 }
 
 // A flat sheet in z = 0 (normals +z) inside the outline r(theta) = radius + bump sin(lobes theta).
