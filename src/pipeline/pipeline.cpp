@@ -258,20 +258,20 @@ PipelineResult run_pipeline(const Input& input, const PreparedInput& prepared, R
     const double share = unevolved ? kPreviewLeastHoleShare : kLeastHoleShare / kBandToMeshDiameter;
     result.closed_small_holes = close_small_spots(band, phi, result.plan->level,
                                                   share * result.plan->diameter / placed.mm_per_grid());
+    const std::vector<Segment> edges =
+        placed.open_mesh() ? boundary_segments(*placed.mesh) : std::vector<Segment>{};
     // `rim` 0 allows notches: a spot within a hole of the open boundary keeps its shape.
     std::function<bool(const Vec3&)> notch;
-    std::vector<Segment> edges;
-    if (options.rim == 0.0 && placed.open_mesh()) edges = boundary_segments(*placed.mesh);
-    if (!edges.empty())
+    if (options.rim == 0.0 && !edges.empty())
       notch = [&edges, reach = result.plan->diameter / placed.mm_per_grid()](const Vec3& x) {
         return std::any_of(edges.begin(), edges.end(),
                            [&](const Segment& s) { return segment_distance(x, s) < reach; });
       };
     result.closed_oblong_holes =
         close_oblong_spots(band, phi, result.plan->level, kLeastSpotAxisRatio, notch);
-    if (options.rim > 0.0 && placed.open_mesh())
-      result.closed_rim_holes = close_spots_in_rim(
-          band, phi, result.plan->level, boundary_segments(*placed.mesh), options.rim / placed.mm_per_grid());
+    if (options.rim > 0.0 && !edges.empty())
+      result.closed_rim_holes =
+          close_spots_in_rim(band, phi, result.plan->level, edges, options.rim / placed.mm_per_grid());
   }
   result.spots = spot_statistics(band, phi, 0.0);
   // Before a preview's output too, so that it shows the sizes asked where they are asked: on the layout's
