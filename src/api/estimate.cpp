@@ -9,14 +9,13 @@
 #include <optional>
 #include <variant>
 
-#include "band/band.hpp"
-#include "band/memory_estimate.hpp"
 #include "core/error.hpp"
 #include "core/units.hpp"
 #include "geometry/refine.hpp"
 #include "input/placement.hpp"
 #include "pattern/hole_map.hpp"
 #include "pipeline/pipeline.hpp"
+#include "pipeline/run_cost.hpp"
 #include "pipeline/validate.hpp"
 #include "poreshell/poreshell.hpp"
 #include "shell/shell.hpp"
@@ -24,54 +23,6 @@
 
 namespace poreshell {
 namespace {
-
-// docs/benchmarks.md, "Estimates": fits to the CLI's wall times (2 threads, quiet hours). With epsilon
-// tied to h (no hole size asked) the pores shrink with the voxels and the steps grow: t = 3.5 s (V /
-// 133k)^1.78 through the bunny at 131 and 260 points. With holes in mm the equation starts from the even
-// layout and takes some 20-40 steps whatever the grid, so the time follows the band: t = 0.1 s + 10.5 us V
-// for the analytic shapes, 0.3 s + 21 us V for meshes (closest points on the mesh for every band voxel and
-// shell sample), and 21.3 s (V / 644k)^1.41 for point clouds (the surface made from the points).
-constexpr double kSecondsAtReference = 3.5, kReferenceVoxels = 133356.0, kVoxelExponent = 1.78;
-constexpr double kShapeSecondsFixed = 0.1, kShapeSecondsPerBandVoxel = 10.5e-6;
-constexpr double kMeshSecondsFixed = 0.3, kMeshSecondsPerBandVoxel = 21e-6;
-constexpr double kPointsSecondsAtReference = 21.3, kPointsReferenceVoxels = 644e3,
-                 kPointsVoxelExponent = 1.41;
-// Peak resident memory of the bunny series at bc095dd: 89, 183, 659 and 1656 MiB at 133k-6.05M band
-// voxels. (`max_memory_gb` is checked against the cautious 1300 B a voxel of band/memory_estimate.hpp.)
-constexpr double kPeakFixedBytes = 50.0 * 1024 * 1024, kPeakBytesPerVoxel = 275.0;
-constexpr double kTrianglesPerShellCell = 4.8;  // per band voxel, times (h / shell spacing)^2
-// `max_triangles`: the reduction's cost per collapse (two triangles) and its structures per triangle of
-// the meshed shell, on top of the run (docs/benchmarks.md "Estimates", 2026-11-27: the CLI reduced
-// against unreduced, 2 cores, 5.8-7.6 us a collapse and 169 bytes a triangle on the bunny, 5.9-6.5 us
-// and 164 bytes on a sphere r 30 mm).
-constexpr double kSecondsPerCollapse = 7.0e-6, kReductionBytesPerTriangle = 170.0;
-// The default reduction to `max_deviation` (issue 49): per triangle of the full isosurface, its time and
-// its structures, and the share of triangles it keeps. The demo bunny (8 mm holes at 14 mm graded, 2 mm
-// wall; 2,100,348 triangles), default against `max_deviation` 0 on a quiet 2-core machine: 6.99 s against
-// 3.62 s, 601 against 167 MB peak, 878,818 triangles kept (0.42); the sphere r 50 mm, 6 mm at 10 mm:
-// 430,804 of 1,154,928 kept (0.37).
-constexpr double kBoundSecondsPerTriangle = 1.6e-6, kBoundBytesPerTriangle = 210.0, kBoundKeptShare = 0.42;
-constexpr double kStlBytesPerTriangle = 50.0;
-constexpr double kStlHeaderBytes = 84.0;
-// A preview: a mesh input split as the pipeline splits it (counted, not guessed); other inputs as the
-// band's slab {|psi| < h} meshed on the band's grid, about 4.8 triangles per band voxel (the bunny's
-// points, 8 mm holes at 14 mm: 790,948 from 163,539). Written as PLY with a colour per vertex (12 + 3
-// bytes a vertex, 13 a triangle, half as many vertices as triangles: 20.5 bytes a triangle).
-// Its time, linear in the band (the CLI's wall time, 2 threads, docs/benchmarks.md "Estimates"): from the
-// even layout (no solve) 0.02 s + 3.0 us V for the shapes (spheres of 25-100 mm) and 0.2 s + 5.3 us V for
-// point clouds (the bunny's points, 8 / 14, 6 / 10 and 4 / 7 mm); a preview that runs the equation
-// (`layout` paper) 0.8 s + 8.4 us V, the older fit through bunny previews of 0.16, 0.38 and 1.26 M band
-// voxels, not measured again.
-constexpr double kPreviewTrianglesPerVoxel = 4.84, kPlyBytesPerTriangle = 20.5;
-constexpr double kShapePreviewSecondsFixed = 0.02, kShapePreviewSecondsPerVoxel = 3.0e-6;
-constexpr double kPointsPreviewSecondsFixed = 0.2, kPointsPreviewSecondsPerVoxel = 5.3e-6;
-constexpr double kSolvedPreviewSecondsFixed = 0.8, kSolvedPreviewSecondsPerVoxel = 8.4e-6;
-// A mesh's preview builds only the band's surface layer, {|psi| < h} of {|psi| < delta}: h / delta of the
-// band (the bunny at 8 / 14, 5 / 9 and 3 / 5 mm: 0.528-0.538 of its band, 0.538-0.553 of the band
-// estimated). Time and peak memory per layer voxel, fitted through the CLI's wall time and peak RSS of
-// those three (2 threads, 2026-11-26): 0.82-0.86, 1.84-1.96 and 5.94-6.14 s; 46, 72 and 179 MiB.
-constexpr double kLayerSecondsFixed = 0.11, kLayerSecondsPerVoxel = 8.9e-6;
-constexpr double kLayerPeakFixedBytes = 26.0 * 1024 * 1024, kLayerPeakBytesPerVoxel = 240.0;
 
 // Thresholds of the warnings: the size a print usually has, and a cost worth a second thought.
 constexpr double kSmallModelMm = 5.0, kLargeModelMm = 3000.0;
@@ -148,31 +99,14 @@ Estimate estimate_prepared(const Input& input, const PreparedInput& prepared) {
   const Grid grid = Grid::fitted(placed.domain, placed.resolution);
   e.grid = grid.dims();
   e.voxel_size_mm = grid.h() * mm_per_grid;
-  BandEstimate band = estimate_band(*placed.surface, placed.domain, placed.resolution);
-  if (band.voxels == 0.0) {  // a small run: its own band is cheap to count
-    band.voxels = static_cast<double>(build_band(*placed.surface, grid).size());
-  }
-  e.band_voxels = band.voxels;
-  e.peak_bytes = kPeakFixedBytes + kPeakBytesPerVoxel * band.voxels;
-  const bool shape = placed.input.kind == "shape", points = placed.input.kind == "points";
-  if (!plan)
-    e.seconds = kSecondsAtReference * std::pow(band.voxels / kReferenceVoxels, kVoxelExponent);
-  else if (shape)
-    e.seconds = kShapeSecondsFixed + kShapeSecondsPerBandVoxel * band.voxels;
-  else if (points)
-    e.seconds =
-        kPointsSecondsAtReference * std::pow(band.voxels / kPointsReferenceVoxels, kPointsVoxelExponent);
-  else
-    e.seconds = kMeshSecondsFixed + kMeshSecondsPerBandVoxel * band.voxels;
-  // As the pipeline takes it (issue 51): asked, else 2 mm for holes asked in mm, else the band's width.
-  const double wall_mm = options.mode == Mode::shell && options.wall > 0.0 ? options.wall
-                         : options.mode == Mode::shell && plan
-                             ? kDefaultWallMm
-                             : 2.0 * BandOptions{}.delta_in_h * e.voxel_size_mm;
-  const double shell_mm = options.mode == Mode::shell
-                              ? std::min(e.voxel_size_mm, wall_mm / kMinCellsAcrossWall)
-                              : e.voxel_size_mm;
-  e.triangles = kTrianglesPerShellCell * band.voxels * std::pow(e.voxel_size_mm / shell_mm, 2);
+  const RunCost cost = estimate_run_cost(prepared, true);
+  e.band_voxels = cost.band_voxels;
+  e.seconds = cost.seconds;
+  e.peak_bytes = cost.peak_bytes;
+  e.triangles = cost.triangles;
+  e.stl_bytes = cost.stl_bytes;
+  e.preview = options.preview;
+  e.ply_bytes = cost.ply_bytes;
   // A wall thinner than printers make is meshed at a third of it: say both before the run (issue 47:
   // `wall` 0.2 was estimated at 212 million triangles without a word).
   if (options.mode == Mode::shell && options.wall > 0.0 && options.wall < kThinWallMm && !options.preview)
@@ -180,36 +114,7 @@ Estimate estimate_prepared(const Input& input, const PreparedInput& prepared) {
         fmt::format("a `wall` of {:.2g} mm is thinner than most printers make ({:.2g} mm and "
                     "up), and is meshed at {:.2g} mm: about {} triangles; ask for a "
                     "thicker `wall`",
-                    options.wall, kThinWallMm, shell_mm, count_in_words(e.triangles)));
-  if (const auto target = static_cast<double>(options.max_triangles);
-      !options.preview && target > 0 && e.triangles > target) {
-    e.seconds += kSecondsPerCollapse * 0.5 * (e.triangles - target);
-    e.peak_bytes += kReductionBytesPerTriangle * e.triangles;
-    e.triangles = target;
-  } else if (!options.preview && reduction_bound(options, wall_mm) > 0.0) {
-    e.seconds += kBoundSecondsPerTriangle * e.triangles;
-    e.peak_bytes += kBoundBytesPerTriangle * e.triangles;
-    e.triangles *= kBoundKeptShare;
-  }
-  e.stl_bytes = kStlHeaderBytes + kStlBytesPerTriangle * e.triangles;
-  if (options.preview) {
-    e.preview = true;
-    if (builds_surface_layer(options, placed)) {
-      e.band_voxels = band.voxels / BandOptions{}.delta_in_h;
-      e.seconds = kLayerSecondsFixed + kLayerSecondsPerVoxel * e.band_voxels;
-      e.peak_bytes = kLayerPeakFixedBytes + kLayerPeakBytesPerVoxel * e.band_voxels;
-    } else if (resolve_layout(options, plan.has_value()) != Layout::cvt) {
-      e.seconds = kSolvedPreviewSecondsFixed + kSolvedPreviewSecondsPerVoxel * band.voxels;
-    } else {
-      e.seconds = shape ? kShapePreviewSecondsFixed + kShapePreviewSecondsPerVoxel * band.voxels
-                        : kPointsPreviewSecondsFixed + kPointsPreviewSecondsPerVoxel * band.voxels;
-    }
-    e.triangles = placed.mesh
-                      ? static_cast<double>(preview_surface_mesh(*placed.mesh, grid.h()).triangles.size())
-                      : kPreviewTrianglesPerVoxel * band.voxels;
-    e.stl_bytes = kStlHeaderBytes + kStlBytesPerTriangle * e.triangles;
-    e.ply_bytes = kPlyBytesPerTriangle * e.triangles;
-  }
+                    options.wall, kThinWallMm, cost.shell_mm, count_in_words(cost.triangles)));
 
   size_warnings(e, input, given, e.warnings);
   // The smallest extent that holes can span: a flat part's thickness (under a tenth of its length) is

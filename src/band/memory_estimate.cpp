@@ -6,11 +6,9 @@
 #include <cmath>
 #include <fstream>
 #include <limits>
-#include <sstream>
 #include <string>
 
 #include "band/band.hpp"
-#include "core/error.hpp"
 #include "core/grid.hpp"
 
 namespace poreshell {
@@ -52,35 +50,17 @@ BandEstimate estimate_band(const Surface& surface, const Box& domain, int resolu
   try {
     const double voxels =
         static_cast<double>(build_band(surface, coarse).size()) * std::pow(coarse.h() / fine_h, 2);
-    return {voxels, voxels * kPeakBytesPerBandVoxel};
+    return {voxels};
   } catch (const std::exception&) {
     return {};  // no estimate on this grid: the run itself will say what is wrong
   }
 }
 
-void check_band_fits(const Surface& surface, const Box& domain, int resolution, double limit_gb, double h_mm,
-                     bool holes_in_mm) {
-  const double address_space = address_space_left_bytes();
-  const bool by_address_space = !(limit_gb > 0.0) && address_space < available_memory_bytes();
-  const double limit =
-      limit_gb > 0.0 ? limit_gb * 1e9 : (by_address_space ? address_space : available_memory_bytes());
-  const BandEstimate estimate = estimate_band(surface, domain, resolution);
-  if (estimate.peak_bytes <= limit) return;
-  const double shrink = std::sqrt(limit / estimate.peak_bytes);
-  std::ostringstream message;
-  message.precision(3);
-  message << "this run needs about " << estimate.peak_bytes / 1e9 << " GB (about " << estimate.voxels / 1e6
-          << " million band voxels at h = " << h_mm << " mm), more than the " << limit / 1e9 << " GB "
-          << (limit_gb > 0.0     ? "allowed by `max_memory_gb`"
-              : by_address_space ? "left under the address-space limit (ulimit -v)"
-                                 : "available")
-          << ": ";
-  if (!holes_in_mm)
-    message << "use `resolution` " << static_cast<int>(1 + (resolution - 1) * shrink)
-            << " or less, or `voxel_size` " << h_mm / shrink << " mm or more";
-  else  // the voxel size follows the holes: memory grows like (size of the model / spacing)^2
-    message << "ask for holes and spacing " << 1.0 / shrink << " times larger or more";
-  throw Error(ErrorCode::too_large, message.str(), limit_gb > 0.0 ? "max_memory_gb" : "");
+MemoryLimit memory_limit(double limit_gb) {
+  if (limit_gb > 0.0) return {limit_gb * 1e9, "allowed by `max_memory_gb`"};
+  const double available = available_memory_bytes(), address_space = address_space_left_bytes();
+  if (address_space < available) return {address_space, "left under the address-space limit (ulimit -v)"};
+  return {available, "available"};
 }
 
 }  // namespace poreshell

@@ -11,7 +11,6 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "band/memory_estimate.hpp"
 #include "core/error.hpp"
 #include "core/heap.hpp"
 #include "geometry/refine.hpp"
@@ -19,6 +18,7 @@
 #include "pattern/grading.hpp"
 #include "pattern/layout.hpp"
 #include "pattern/solid_zones.hpp"
+#include "pipeline/run_cost.hpp"
 #include "pipeline/validate.hpp"
 #include "shell/narrow_volume.hpp"
 #include "shell/printability.hpp"
@@ -191,8 +191,7 @@ PipelineResult run_pipeline(const Input& input, const PreparedInput& prepared, R
   const Grid grid = Grid::fitted(placed.domain, placed.resolution);
   result.grid_dims = grid.dims();
   result.h = grid.h();
-  check_band_fits(*placed.surface, placed.domain, placed.resolution, options.max_memory_gb,
-                  grid.h() * placed.mm_per_grid(), holes_in_mm(options));
+  check_run_fits(estimate_run_cost(prepared, false), prepared);
   // The wall: asked for (shell); 2 mm where holes are asked in mm, so that it does not follow the hole
   // map's voxel; else the band's width 2 delta (the paper's parameters, the narrow volume).
   const bool shell_wall = options.mode == Mode::shell;

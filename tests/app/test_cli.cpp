@@ -12,6 +12,7 @@
 #include <fstream>
 #include <iterator>
 #include <nlohmann/json.hpp>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -241,9 +242,9 @@ TEST_F(Cli, MissingOrBadPointsFailWithTheirNameAndNoOutput) {
 }
 
 // The band is estimated on a coarse grid before anything large is allocated: a run that would not fit
-// is refused with the resolution that would (the sphere at N = 161 needs about 0.14 GB).
+// is refused with the resolution that would (the sphere at N = 161 needs about 193 MiB).
 TEST_F(Cli, RunThatWouldNotFitInMemoryIsRefusedBeforeRunning) {
-  const Outcome o = run("--shape sphere --resolution 161 --max-memory 0.05 --quiet -o X.stl --report X.json");
+  const Outcome o = run("--shape sphere --resolution 161 --max-memory 0.1 --quiet -o X.stl --report X.json");
   EXPECT_EQ(o.exit_code, 1);
   expect_one_error_line(o);
   EXPECT_NE(o.err.find("--max-memory"), std::string::npos) << o.err;
@@ -251,6 +252,21 @@ TEST_F(Cli, RunThatWouldNotFitInMemoryIsRefusedBeforeRunning) {
   EXPECT_TRUE(files_in_work().empty());
   const Outcome fits = run("--shape sphere --resolution 161 --max-memory 1 --max-steps 1 --quiet -o X.stl");
   EXPECT_EQ(fits.exit_code, 0) << fits.err;
+}
+
+// One estimate for the printout and the guard (issue 47: the printout said 863 MiB where the guard
+// refused at "about 4.03 GB"): the figure the refusal names is the one printed before it.
+TEST_F(Cli, MemoryGuardNamesThePrintedEstimate) {
+  const Outcome o = run("--shape sphere --resolution 161 --max-memory 0.1 -o X.stl");
+  EXPECT_EQ(o.exit_code, 1);
+  const auto first_group = [](const std::string& text, const char* pattern) {
+    std::smatch m;
+    return std::regex_search(text, m, std::regex(pattern)) ? m[1].str() : std::string();
+  };
+  const std::string printed = first_group(o.out, R"(peak memory (\d+) MiB)");
+  ASSERT_FALSE(printed.empty()) << o.out;
+  EXPECT_EQ(printed, first_group(o.err, R"(needs about (\d+) MiB)")) << o.out << o.err;
+  EXPECT_NE(o.err.find("0.1 GB"), std::string::npos) << o.err;
 }
 
 TEST_F(Cli, SolidZoneOptionsAreChecked) {
