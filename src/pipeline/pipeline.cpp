@@ -377,8 +377,9 @@ PipelineResult run_pipeline(const Input& input, const PreparedInput& prepared, R
           out.reduction = decimate_mesh(out.mesh, decimate);
         } catch (const Error&) {
           throw;  // cancelled, or bad input: as anywhere else
-        } catch (const std::runtime_error&) {
+        } catch (const std::runtime_error& failed) {
           out.reduction.reset();
+          out.reduction_skipped = failed.what();  // said in the report's warnings: never silently
         }
       }
       // A budget is a promise to the printer or the viewer downstream: not met, nothing is written.

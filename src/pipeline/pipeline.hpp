@@ -39,7 +39,8 @@ struct MeshOutput {
   TriangleMesh mesh;  // mm, the input's frame
   MeshTopology topology;
   HoleStats holes;                          // on the band at this level, lengths in mm
-  std::optional<DecimateResult> reduction;  // --max-triangles
+  std::optional<DecimateResult> reduction;  // max_deviation (the default), max_triangles
+  std::string reduction_skipped;            // why the default's reduction was dropped (the full mesh written)
   WallMeasurement wall;                     // across the written solid's wall, mm (shell mode)
   HoleTable hole_table;                     // each pore measured on `mesh` (mm); none for a preview
   PartsSummary parts;                       // what keep_main_parts removed (none with keep_fragments)

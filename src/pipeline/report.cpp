@@ -137,6 +137,12 @@ Report make_report(const PipelineResult& r, const Options& options) {
             "{:.0f}%); lower --thin-features or --crease-angle, or narrow --rim, to open more",
             100.0 * l.holes.porosity, 100.0 * report.plan->porosity, share(z.solid), share(z.thin),
             share(z.creases), share(z.rims), share(z.keep_outs)));
+  for (const MeshOutput& m : r.meshes)
+    if (!m.reduction_skipped.empty())
+      report.warnings.push_back(fmt::format(
+          "the output at iso {:g} is the full isosurface, {} triangles: its reduction within `max_deviation` "
+          "failed a check ({}); `max_triangles` asks for a count, `max_deviation` 0 for the full mesh",
+          m.iso, m.mesh.triangles.size(), m.reduction_skipped));
   report.unperforated_euler_characteristic = r.unperforated_euler;
   report.memory = {static_cast<std::int64_t>(r.band_bytes), static_cast<std::int64_t>(r.solver_bytes),
                    static_cast<std::int64_t>(r.peak_rss_after_band),

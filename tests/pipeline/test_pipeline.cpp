@@ -8,6 +8,7 @@
 #include "io/mesh_writers.hpp"
 #include "io/stl.hpp"
 #include "pipeline/pipeline.hpp"
+#include "pipeline/report.hpp"
 #include "poreshell/io.hpp"
 
 using namespace poreshell;
@@ -136,4 +137,22 @@ TEST(Pipeline, CoarseStartWhereTheInterfaceSpansManyVoxels) {
   c.coarse_start = false;
   c.max_steps = 1;
   EXPECT_FALSE(run_pipeline(bunny, c, unmonitored()).coarse_start);
+}
+
+// Issue 49: where the default reduction fails one of its checks, the full isosurface is written, and the
+// report says so with the reason (it used to be dropped without a word).
+TEST(Report, DroppedDefaultReductionIsAWarning) {
+  PipelineResult result;
+  result.input.scale = 1.0;
+  result.meshes.resize(1);
+  result.meshes[0].iso = -0.25;
+  result.meshes[0].mesh.triangles.resize(7);
+  result.meshes[0].reduction_skipped = "mesh decimation: a reduced triangle faces away";
+  const Report report = make_report(result, Options{});
+  ASSERT_EQ(report.warnings.size(), 1u);
+  const std::string& w = report.warnings[0];
+  EXPECT_NE(w.find("iso -0.25 is the full isosurface, 7 triangles"), std::string::npos) << w;
+  EXPECT_NE(w.find("a reduced triangle faces away"), std::string::npos) << w;
+  result.meshes[0].reduction_skipped.clear();
+  EXPECT_TRUE(make_report(result, Options{}).warnings.empty());
 }
