@@ -1,4 +1,4 @@
-// Options of the library from perforate()'s keyword arguments, each checked and converted by its API name
+// Options of the library from perforate()'s keyword arguments, by the option table's names and types
 // (the binding, poreshell_module.cpp, uses to_options; option_names lists the keywords).
 
 #include "options.hpp"
@@ -8,12 +8,12 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <functional>
-#include <map>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "poreshell/option_table.hpp"
 #include "poreshell/poreshell.hpp"
 
 namespace py = pybind11;
@@ -135,101 +135,68 @@ poreshell::Grade to_grade(py::handle value) {
   return grade;
 }
 
-using Setter = std::function<void(poreshell::Options&, const std::string&, py::handle)>;
-
-Setter set_double(double poreshell::Options::*field) {
-  return [field](poreshell::Options& o, const std::string& n, py::handle v) { o.*field = to_double(n, v); };
-}
-template <typename Int>
-Setter set_int(Int poreshell::Options::*field) {
-  return [field](poreshell::Options& o, const std::string& n, py::handle v) { o.*field = to_int<Int>(n, v); };
-}
-template <typename Enum>
-Setter set_enum(Enum poreshell::Options::*field) {
-  return
-      [field](poreshell::Options& o, const std::string& n, py::handle v) { o.*field = to_enum<Enum>(n, v); };
-}
-
-// Every field of poreshell::Options, by its API name.
-const std::map<std::string, Setter>& setters() {
-  using O = poreshell::Options;
-  static const std::map<std::string, Setter> table{
-      {"hole_diameter", set_double(&O::hole_diameter)},
-      {"spacing", set_double(&O::spacing)},
-      {"porosity", set_double(&O::porosity)},
-      {"grade", [](O& o, const std::string&, py::handle v) { o.grade = to_grade(v); }},
-      {"resolution", set_int(&O::resolution)},
-      {"voxel_size", set_double(&O::voxel_size)},
-      {"mode", set_enum(&O::mode)},
-      {"wall", set_double(&O::wall)},
-      {"offset", set_enum(&O::offset)},
-      {"rim", set_double(&O::rim)},
-      {"thin_feature_ratio", set_double(&O::thin_feature_ratio)},
-      {"crease_angle", set_double(&O::crease_angle)},
-      {"keep_out",
-       [](O& o, const std::string& n, py::handle v) {
-         o.keep_out.clear();
-         for (const auto& r : to_rows(n, v, 4)) o.keep_out.push_back({{r[0], r[1], r[2]}, r[3]});
-       }},
-      {"keep_out_boxes",
-       [](O& o, const std::string& n, py::handle v) {
-         o.keep_out_boxes.clear();
-         for (const auto& r : to_rows(n, v, 6))
-           o.keep_out_boxes.push_back({{r[0], r[1], r[2]}, {r[3], r[4], r[5]}});
-       }},
-      {"keep_out_mask", [](O& o, const std::string& n, py::handle v) { o.keep_out_mask = to_string(n, v); }},
-      {"max_triangles", set_int(&O::max_triangles)},
-      {"max_deviation", set_double(&O::max_deviation)},
-      {"keep_fragments", [](O& o, const std::string& n, py::handle v) { o.keep_fragments = to_bool(n, v); }},
-      {"min_part_fraction", set_double(&O::min_part_fraction)},
-      {"scale", set_double(&O::scale)},
-      {"preview", [](O& o, const std::string& n, py::handle v) { o.preview = to_bool(n, v); }},
-      {"alpha", set_double(&O::alpha)},
-      {"epsilon_m", set_double(&O::epsilon_m)},
-      {"dt_h", set_double(&O::dt_h)},
-      {"phi_bar", set_double(&O::phi_bar)},
-      {"iso",
-       [](O& o, const std::string& n, py::handle v) {
-         o.iso.clear();
-         if (py::isinstance<py::sequence>(v) && !py::isinstance<py::str>(v)) {
-           for (py::handle item : py::reinterpret_borrow<py::sequence>(v))
-             o.iso.push_back(to_double(n, item));
-           if (o.iso.empty()) bad_value(n, "a level or a non-empty sequence of levels", v);
-         } else {
-           o.iso.push_back(to_double(n, v));
-         }
-       }},
-      {"initial_amplitude", set_double(&O::initial_amplitude)},
-      {"seed", set_int(&O::seed)},
-      {"tolerance", set_double(&O::tolerance)},
-      {"max_steps", set_int(&O::max_steps)},
-      {"stop", set_enum(&O::stop)},
-      {"layout", set_enum(&O::layout)},
-      {"solver", set_enum(&O::solver)},
-      {"fast_tolerance", set_double(&O::fast_tolerance)},
-      {"min_stabilisation", set_double(&O::min_stabilisation)},
-      {"coarse_start", [](O& o, const std::string& n, py::handle v) { o.coarse_start = to_bool(n, v); }},
-      {"inner", set_enum(&O::inner)},
-      {"inner_tolerance", set_double(&O::inner_tolerance)},
-      {"energy_every", set_int(&O::energy_every)},
-      {"point_route", set_enum(&O::point_route)},
-      {"max_memory_gb", set_double(&O::max_memory_gb)},
-      {"threads", set_int(&O::threads)},
-  };
-  return table;
+// A keyword's value as the option table's JSON (include/poreshell/option_table.hpp), with what Python
+// callers may pass besides: numpy arrays, one iso level alone, a grading spec string, axes as letters.
+nlohmann::json to_json(const poreshell::OptionInfo& info, py::handle value) {
+  const std::string name(info.name);
+  using poreshell::OptionType;
+  switch (info.type) {
+    case OptionType::number:
+      return to_double(name, value);
+    case OptionType::integer:
+      if (py::isinstance<py::int_>(value) && value.cast<py::int_>() >= py::int_(0))
+        return to_int<std::uint64_t>(name, value);
+      return to_int<std::int64_t>(name, value);
+    case OptionType::boolean:
+      return to_bool(name, value);
+    case OptionType::choice: {
+      std::string text = to_string(name, value);
+      std::replace(text.begin(), text.end(), '-', '_');
+      return text;
+    }
+    case OptionType::text:
+      return to_string(name, value);
+    case OptionType::numbers: {
+      if (!py::isinstance<py::sequence>(value) || py::isinstance<py::str>(value))
+        return {to_double(name, value)};
+      nlohmann::json list = nlohmann::json::array();
+      for (py::handle item : py::reinterpret_borrow<py::sequence>(value))
+        list.push_back(to_double(name, item));
+      if (list.empty()) bad_value(name, "a level or a non-empty sequence of levels", value);
+      return list;
+    }
+    case OptionType::spheres:
+      return to_rows(name, value, 4);
+    case OptionType::boxes:
+      return to_rows(name, value, 6);
+    case OptionType::grade: {
+      const poreshell::Grade g = to_grade(value);
+      return {{"kind", std::string(poreshell::name_of(g.kind))},
+              {"axis", g.axis},
+              {"from", g.from},
+              {"to", g.to},
+              {"from_diameter", g.from_diameter},
+              {"to_diameter", g.to_diameter},
+              {"radius", g.radius},
+              {"field", g.field},
+              {"mapped", g.mapped}};
+    }
+  }
+  return nullptr;
 }
 
 }  // namespace
 
 poreshell::Options to_options(const py::dict& kwargs, const std::string& caller) {
-  poreshell::Options options;
+  // Each keyword by the option table, the whole read and validated as every front end's options are.
+  nlohmann::json settings = nlohmann::json::object();
   for (const auto& [key_handle, value] : kwargs) {
     const std::string key = py::str(key_handle);
-    const auto it = setters().find(key);
-    if (it == setters().end())
-      throw py::type_error(caller + "() got an unexpected keyword argument '" + key + "'");
-    if (!value.is_none()) it->second(options, key, value);
+    const poreshell::OptionInfo* info = poreshell::find_option(key);
+    if (!info) throw py::type_error(caller + "() got an unexpected keyword argument '" + key + "'");
+    if (!value.is_none()) settings[key] = to_json(*info, value);
   }
+  poreshell::Options options = poreshell::options_from_json(settings.dump());
   // As the CLI: with holes asked in mm, the hole map chooses the model, which may then not be given
   // (Options cannot tell a default from a value given).
   for (const char* hole : {"hole_diameter", "spacing", "porosity"}) {
@@ -239,13 +206,13 @@ poreshell::Options to_options(const py::dict& kwargs, const std::string& caller)
         throw py::value_error(std::string("`") + model + "` cannot be given with `" + hole +
                               "`: the hole map chooses it from the holes in mm");
   }
-  poreshell::validate(options);
   return options;
 }
 
 std::vector<std::string> option_names() {
   std::vector<std::string> names;
-  for (const auto& [name, unused] : setters()) names.push_back(name);
+  for (const poreshell::OptionInfo& info : poreshell::option_table()) names.emplace_back(info.name);
+  std::sort(names.begin(), names.end());
   return names;
 }
 

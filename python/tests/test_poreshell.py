@@ -132,6 +132,18 @@ def test_bad_options():
         poreshell.perforate(poreshell.sphere(20), hole_diameter=5, alpha=2200)
     with pytest.raises(TypeError, match="alpah"):
         poreshell.perforate(poreshell.sphere(20), alpah=2200)
+    with pytest.raises(ValueError, match="`spacing`") as e:  # named for itself, not as hole_diameter
+        poreshell.perforate(poreshell.sphere(20), hole_diameter=4, spacing=-1)
+    assert e.value.option == "spacing"
+
+
+def test_keywords_are_the_option_table():
+    """Every keyword is an option of the report's settings and back (issue 48: one option table)."""
+    assert set(poreshell.OPTION_NAMES) >= {"hole_diameter", "keep_out", "max_deviation", "seed"}
+    keep_out = np.array([[0, 0, 20, 3]])
+    result = poreshell.perforate(poreshell.sphere(20), preview=True, hole_diameter=4, keep_out=keep_out)
+    assert sorted(result.report["settings"]) == sorted(poreshell.OPTION_NAMES)
+    assert result.report["settings"]["keep_out"] == [{"centre": [0, 0, 20], "radius": 3}]
 
 
 def test_estimate_before_the_run():
