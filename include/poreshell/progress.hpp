@@ -7,6 +7,8 @@
 
 namespace poreshell {
 
+// `stage` and `message` view the run's own strings and are valid only during the callback: a caller
+// that keeps them copies them (std::string(p.stage)).
 struct Progress {
   std::string_view stage;    // input, band, solve, shell, mesh, holes
   double fraction = 0.0;     // of this stage, 0..1 (the solve's: from the stopping rule's progress)
