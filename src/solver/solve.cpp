@@ -69,7 +69,7 @@ std::vector<double> even_layout_start(const PatternPlan& plan, const PlacedSurfa
   if (centres.empty())
     throw OptionError(
         "hole_diameter",
-        fmt::format("no hole of {} mm at {} mm spacing fits on the surface's free part: open "
+        fmt::format("no hole of {:.3g} mm at {:.3g} mm spacing fits on the surface's free part: open "
                     "edges, rims, keep-outs, creases and parts thinner than `thin_feature_ratio` "
                     "holes stay solid; ask for smaller `hole_diameter` and `spacing`, or less "
                     "solid (`thin_feature_ratio` 0 keeps no thin part solid)",
