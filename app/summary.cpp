@@ -12,6 +12,19 @@ std::string yes_no(bool b, const char* yes, const char* no) {
   return b ? yes : no;
 }
 
+// Why some of the band's spots have no hole in the hole table (issue 51), when any have none.
+std::string spots_without_pore(const poreshell::LevelReport& m) {
+  const std::int64_t other = m.hole_table_dropped - m.spots_at_open_edge - m.spots_not_through;
+  std::string parts;
+  const auto add = [&](std::int64_t n, const char* what) {
+    if (n > 0) parts += fmt::format("{}{} {}", parts.empty() ? "" : ", ", n, what);
+  };
+  add(m.spots_at_open_edge, "at the open edge (notches)");
+  add(m.spots_not_through, "elsewhere (not cut through, or not measurable)");
+  add(other, "inside another's hole");
+  return parts.empty() ? std::string() : " (spots with no measured hole: " + parts + ")";
+}
+
 // 3 significant digits, whole numbers from 100 up, no exponent (issue 47: "1.11e+03 MB").
 std::string readable(double x) {
   if (!std::isfinite(x) || std::abs(x) >= 1e15) return fmt::format("{:.3g}", x);
@@ -222,10 +235,10 @@ void print_summary(const poreshell::Options& c, const poreshell::Report& r,
     }
     fmt::print(
         "  output   {} (iso {:g}): {} triangles, {}, {}, smallest angle {:.1f} deg, Euler characteristic {}, "
-        "pores from Euler {} vs {} spots on band\n",
+        "pores from Euler {} vs {} spots on band{}\n",
         path, m.iso, t.triangles, yes_no(t.closed, "closed", "OPEN"),
         yes_no(t.manifold, "manifold", "NON-MANIFOLD"), t.min_angle_degrees, t.euler_characteristic,
-        m.pores_from_euler, m.spots_at_iso);
+        m.pores_from_euler, m.spots_at_iso, spots_without_pore(m));
   }
   if (!report.empty()) fmt::print("  report   {}\n", report);
   std::string also;

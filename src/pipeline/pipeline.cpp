@@ -411,6 +411,7 @@ PipelineResult run_pipeline(const Input& input, const PreparedInput& prepared, R
     out.hole_table = output_hole_table(out.mesh, out.holes, placed, grid.h(), result.solid.wall_mm,
                                        result.solid.spacing_mm,
                                        shell_mode ? options.offset : WallOffset::centered, side.side);
+    out.spots_at_open_edge = spots_at_open_edge(out.hole_table, out.holes, placed, result.solid.wall_mm);
     std::vector<HoleDisc> discs;
     for (const HoleRecord& h : out.hole_table.holes) discs.push_back({h.centre, h.diameter});
     out.zones = check_zones(discs, options, placed);

@@ -43,6 +43,7 @@ struct MeshOutput {
   std::string reduction_skipped;            // why the default's reduction was dropped (the full mesh written)
   WallMeasurement wall;                     // across the written solid's wall, mm (shell mode)
   HoleTable hole_table;                     // each pore measured on `mesh` (mm); none for a preview
+  std::int64_t spots_at_open_edge = 0;      // of the spots with no hole in the mesh: notches
   PartsSummary parts;                       // what keep_main_parts removed (none with keep_fragments)
   std::int64_t spots_at_iso = 0;            // connected components of {phi > iso} on the band
   std::int64_t pores_from_euler = 0;        // (unperforated chi less its removed voids - chi) / 2

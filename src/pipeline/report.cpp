@@ -35,6 +35,8 @@ LevelReport level_report(const MeshOutput& m) {
   l.spots_at_iso = m.spots_at_iso;
   l.pores_from_euler = m.pores_from_euler;
   l.hole_table_dropped = static_cast<std::int64_t>(m.hole_table.dropped);
+  l.spots_at_open_edge = m.spots_at_open_edge;
+  l.spots_not_through = static_cast<std::int64_t>(m.hole_table.uncut.size()) - m.spots_at_open_edge;
   l.zones.rim_asked = m.zones.rim_asked;
   l.zones.rim = m.zones.rim;
   l.zones.keep_out_clearance = m.zones.keep_out_clearance;

@@ -539,8 +539,13 @@ HoleTable measure_holes(const TriangleMesh& mesh, std::span<const HoleSeed> seed
   }
 
   std::vector<HoleRecord> found;
-  for (const auto& c : cut)
-    if (c) found.push_back(*c);
+  std::vector<std::size_t> uncut;
+  for (std::size_t i = 0; i < cut.size(); ++i) {
+    if (cut[i])
+      found.push_back(*cut[i]);
+    else
+      uncut.push_back(i);
+  }
   // Two seeds in one hole (a spot the band split in two) measure it twice: the first seed keeps it.
   std::vector<char> keep(found.size(), 1);
   std::vector<Vec3> centres;
@@ -557,6 +562,7 @@ HoleTable measure_holes(const TriangleMesh& mesh, std::span<const HoleSeed> seed
   for (std::size_t i = 0; i < found.size(); ++i)
     if (keep[i]) table.holes.push_back(found[i]);
   table.dropped = seeds.size() - table.holes.size();
+  table.uncut = std::move(uncut);
 
   centres.clear();
   for (const HoleRecord& r : table.holes) centres.push_back(r.centre);

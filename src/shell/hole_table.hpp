@@ -39,6 +39,7 @@ struct HoleTable {
   // Seeds with no closed loop around them (a notch at an open edge, a spot that did not cut through),
   // or whose loop another seed measured first.
   std::size_t dropped = 0;
+  std::vector<std::size_t> uncut;  // the first kind: indices into the seeds, ascending
 };
 
 // The middle of the wall, in the mesh's frame. Called from several threads at once.

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/error.hpp"
+#include "pattern/solid_zones.hpp"
 #include "shell/trim_line.hpp"
 
 namespace poreshell {
@@ -80,6 +81,26 @@ HoleTable output_hole_table(const TriangleMesh& mesh_mm, const HoleStats& holes_
     reach.push_back(hole.diameter + 2.0 * cell_mm);
   }
   return measure_holes(mesh_mm, seeds_near(mid_wall, centres, reach), &mid_wall);
+}
+
+std::int64_t spots_at_open_edge(const HoleTable& table, const HoleStats& holes_mm,
+                                const PlacedSurface& placed, double wall_mm) {
+  if (table.uncut.empty() || !placed.mesh) return 0;
+  const std::vector<Segment> boundary = boundary_segments(*placed.mesh);
+  if (boundary.empty()) return 0;
+  std::vector<Vec3> centres;  // in the grid's frame, the boundary's
+  std::vector<double> reach;  // mm
+  for (const std::size_t i : table.uncut) {
+    const BandHole& hole = holes_mm.holes[i];
+    centres.push_back(placed.from_mm(hole.centroid));
+    reach.push_back(0.5 * hole.diameter + wall_mm);
+  }
+  double most = 0.0;
+  for (const double r : reach) most = std::max(most, r);
+  const std::vector<double> distance = segment_distances(centres, boundary, most / placed.mm_per_grid());
+  std::int64_t at_edge = 0;
+  for (std::size_t k = 0; k < centres.size(); ++k) at_edge += distance[k] * placed.mm_per_grid() < reach[k];
+  return at_edge;
 }
 
 }  // namespace poreshell

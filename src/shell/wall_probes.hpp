@@ -44,4 +44,10 @@ HoleTable output_hole_table(const TriangleMesh& mesh_mm, const HoleStats& holes_
                             const PlacedSurface& placed, double h, double wall_mm, double cell_mm,
                             WallOffset offset, const SideFunction& side);
 
+// Of the band's spots that open no closed hole in the mesh (HoleTable::uncut), those the open boundary
+// cuts (notches): their centre within their radius and a wall of it. The rest did not cut through the
+// wall (issue 51: the paper route's spot and pore counts differed without a word).
+std::int64_t spots_at_open_edge(const HoleTable& table, const HoleStats& holes_mm,
+                                const PlacedSurface& placed, double wall_mm);
+
 }  // namespace poreshell

@@ -86,6 +86,10 @@ TEST(HoleTablePipeline, OneRecordPerPoreOfASphere) {
   EXPECT_GT(out.pores_from_euler, 30);
   EXPECT_EQ(static_cast<std::int64_t>(holes.size()), out.pores_from_euler);
   EXPECT_EQ(out.hole_table_dropped, out.spots_at_iso - out.pores_from_euler);
+  // Each spot without a pore is said to be a notch at the open edge (issue 51: the counts differed
+  // without a word).
+  EXPECT_EQ(out.spots_at_open_edge, out.hole_table_dropped);
+  EXPECT_EQ(out.spots_not_through, 0);
   expect_holes_as_asked(holes, out.hole_table_dropped, 6.0, 10.0, 20.0);
   // Issue 19, item 5, round pores: mean 4 pi A / P^2 of the mid-wall loops at least 0.97, none under
   // 0.90. Measured here: mean 0.990, least 0.983; on r = 50 (297 holes) 0.991 and 0.977. Before the
@@ -135,6 +139,10 @@ TEST(HoleTablePipeline, OneRecordPerPoreOfAnOpenHemisphere) {
   EXPECT_GT(out.pores_from_euler, 20);
   EXPECT_EQ(static_cast<std::int64_t>(holes.size()), out.pores_from_euler);
   EXPECT_EQ(out.hole_table_dropped, out.spots_at_iso - out.pores_from_euler);
+  // Each spot without a pore is said to be a notch at the open edge (issue 51: the counts differed
+  // without a word).
+  EXPECT_EQ(out.spots_at_open_edge, out.hole_table_dropped);
+  EXPECT_EQ(out.spots_not_through, 0);
   expect_holes_as_asked(holes, out.hole_table_dropped, 6.0, 10.0, 25.0 + 0.75);
 }
 
