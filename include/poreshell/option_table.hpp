@@ -21,7 +21,7 @@ enum class OptionType {
   numbers,  // a list of numbers (iso levels)
   spheres,  // keep-out spheres: [[x, y, z, r], ...] or [{"centre": [x, y, z], "radius": r}, ...]
   boxes,    // keep-out boxes: [[x0, y0, z0, x1, y1, z1], ...] or [{"min": [...], "max": [...]}, ...]
-  grade,    // null, a grading spec as the CLI takes it ("axis:y:7:10"), or the report's object
+  grade,    // null or the report's object: {"kind": "axis", "axis": 1, "from_diameter": 7, ...}
 };
 
 struct OptionInfo {

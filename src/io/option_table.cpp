@@ -132,7 +132,9 @@ std::optional<Grade> grade(const OptionInfo& info, const json& v) {
   if (!kind) refuse(info, what, v);
   Grade g;
   g.kind = *kind;
-  for (const auto& [key, value] : v.items()) {
+  for (const auto& item : v.items()) {
+    const std::string& key = item.key();
+    const json& value = item.value();  // named, not bound: clang 14 does not capture bindings
     const auto length = [&] {
       if (!value.is_number() || !std::isfinite(value.get<double>())) refuse(info, what, v);
       return value.get<double>();
@@ -357,7 +359,9 @@ Options options_from_json_object(const json& settings) {
     throw OptionError("",
                       fmt::format("options must be a JSON object by option name; got {}", settings.dump()));
   Options options;
-  for (const auto& [name, value] : settings.items()) {
+  for (const auto& item : settings.items()) {
+    const std::string& name = item.key();
+    const json& value = item.value();
     const auto row =
         std::find_if(rows().begin(), rows().end(), [&](const Row& r) { return r.info.name == name; });
     if (row == rows().end())

@@ -101,12 +101,13 @@ PatternPlan plan_pattern(const HoleRequest& request) {
   if (!(d >= 0.0 && a >= 0.0 && p >= 0.0) || !std::isfinite(d + a + p))
     throw OptionError("hole_diameter", "`hole_diameter`, `spacing` and `porosity` must be positive numbers");
   if (d > 0.0 && a > 0.0 && p > 0.0)
-    throw InputError(
-        "`hole_diameter`, `spacing` and `porosity` over-determine the pattern: give two of them");
+    throw OptionError(
+        "porosity", "`hole_diameter`, `spacing` and `porosity` over-determine the pattern: give two of them");
   if (p > 0.0 && d <= 0.0 && a <= 0.0)
-    throw InputError(
-        "`porosity` sets how much is open, not how large the holes are: add `hole_diameter` MM or `spacing` "
-        "MM");
+    throw OptionError(
+        "porosity",
+        "`porosity` sets how much is open, not how large the holes are: add `hole_diameter` MM or "
+        "`spacing` MM");
   const auto porosity_at = [](double ratio) {
     return interpolate(
         level_for_diameter_ratio(ratio), [](const CalibrationRow& r) { return r.level; },
@@ -126,15 +127,17 @@ PatternPlan plan_pattern(const HoleRequest& request) {
   ratio = plan.diameter / plan.spacing;
   if (ratio > kMaxRatio || ratio < kMinRatio) {
     const double nearest = std::clamp(ratio, kMinRatio, kMaxRatio);
-    throw InputError(
+    // Named as the hole diameter's fault, so that a form can mark that field (issue 50).
+    throw OptionError(
+        d > 0.0 ? "hole_diameter" : "spacing",
         "holes of " + format_mm(plan.diameter) + " mm at " + format_mm(plan.spacing) + " mm spacing " +
-        (ratio > kMaxRatio ? "would leave bridges too thin to print or merge into slots"
-                           : "are too small for their spacing to stay open") +
-        " (the diameter must lie between " + format_mm(kMinRatio) + " and " + format_mm(kMaxRatio) +
-        " times the spacing): the nearest feasible requests are `hole_diameter` " +
-        format_mm(nearest * plan.spacing) + " `spacing` " + format_mm(plan.spacing) +
-        ", or `hole_diameter` " + format_mm(plan.diameter) + " `spacing` " +
-        format_mm(plan.diameter / nearest));
+            (ratio > kMaxRatio ? "would leave bridges too thin to print or merge into slots"
+                               : "are too small for their spacing to stay open") +
+            " (the diameter must lie between " + format_mm(kMinRatio) + " and " + format_mm(kMaxRatio) +
+            " times the spacing): the nearest feasible requests are `hole_diameter` " +
+            format_mm(nearest * plan.spacing) + " `spacing` " + format_mm(plan.spacing) +
+            ", or `hole_diameter` " + format_mm(plan.diameter) + " `spacing` " +
+            format_mm(plan.diameter / nearest));
   }
   plan.level = level_for_diameter_ratio(ratio);
   plan.porosity = porosity_at(ratio);
