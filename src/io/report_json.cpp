@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "io/option_json.hpp"
+
 namespace poreshell {
 namespace {
 
@@ -69,68 +71,6 @@ json level_json(const LevelReport& m, const Report& r) {
             {"merged_probes", m.wall.merged}}}};
 }
 
-// Every option by its API name (the Python keywords; the CLI's flags with - for _), so that a report
-// says exactly what was asked for.
-json settings_json(const Options& o) {
-  const auto name = [](auto value) { return std::string(name_of(value)); };
-  json grade = nullptr;
-  if (o.grade)
-    grade = {{"kind", name(o.grade->kind)},
-             {"axis", o.grade->axis},
-             {"from", o.grade->from},
-             {"to", o.grade->to},
-             {"from_diameter", o.grade->from_diameter},
-             {"to_diameter", o.grade->to_diameter},
-             {"radius", o.grade->radius},
-             {"field", o.grade->field},
-             {"mapped", o.grade->mapped}};
-  json keep_out = json::array(), keep_out_boxes = json::array();
-  for (const KeepOutSphere& k : o.keep_out) keep_out.push_back({{"centre", k.centre}, {"radius", k.radius}});
-  for (const KeepOutBox& k : o.keep_out_boxes) keep_out_boxes.push_back({{"min", k.min}, {"max", k.max}});
-  return {{"scale", o.scale},
-          {"hole_diameter", o.hole_diameter},
-          {"spacing", o.spacing},
-          {"porosity", o.porosity},
-          {"grade", grade},
-          {"resolution", o.resolution},
-          {"voxel_size", o.voxel_size},
-          {"mode", name(o.mode)},
-          {"wall", o.wall},
-          {"offset", name(o.offset)},
-          {"rim", o.rim},
-          {"thin_feature_ratio", o.thin_feature_ratio},
-          {"crease_angle", o.crease_angle},
-          {"keep_out", keep_out},
-          {"keep_out_boxes", keep_out_boxes},
-          {"keep_out_mask", o.keep_out_mask},
-          {"keep_fragments", o.keep_fragments},
-          {"min_part_fraction", o.min_part_fraction},
-          {"max_triangles", o.max_triangles},
-          {"max_deviation", o.max_deviation},
-          {"alpha", o.alpha},
-          {"epsilon_m", o.epsilon_m},
-          {"dt_h", o.dt_h},
-          {"phi_bar", o.phi_bar},
-          {"iso", o.iso},
-          {"initial_amplitude", o.initial_amplitude},
-          {"seed", o.seed},
-          {"preview", o.preview},
-          {"stop", name(o.stop)},
-          {"layout", name(o.layout)},
-          {"tolerance", o.tolerance},
-          {"max_steps", o.max_steps},
-          {"solver", name(o.solver)},
-          {"fast_tolerance", o.fast_tolerance},
-          {"min_stabilisation", o.min_stabilisation},
-          {"coarse_start", o.coarse_start},
-          {"inner", name(o.inner)},
-          {"inner_tolerance", o.inner_tolerance},
-          {"energy_every", o.energy_every},
-          {"point_route", name(o.point_route)},
-          {"max_memory_gb", o.max_memory_gb},
-          {"threads", o.threads}};
-}
-
 }  // namespace
 
 json to_json(std::span<const Hole> holes) {
@@ -191,7 +131,7 @@ json to_json(const Report& r, std::span<const Output> outputs) {
   return {
       {"version", r.version},
       {"command_line", r.command_line},
-      {"settings", settings_json(r.settings)},
+      {"settings", options_json(r.settings)},
       {"input",
        {{"kind", r.input.kind},
         {"name", r.input.name},

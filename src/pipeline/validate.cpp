@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <string_view>
+#include <utility>
 
 #include "band/band.hpp"
 #include "core/error.hpp"
@@ -25,9 +27,9 @@ void require(bool ok, const char* option, const std::string& message) {
 // (eps >= 0.77 h); coarser grids change the spacing.
 constexpr double kCoarsestVoxelPerPlanned = 1.25;
 
+// Rounded for people (issue 48: messages said 3.000000 mm).
 std::string mm(double x) {
-  std::string s = std::to_string(x);
-  return s;
+  return fmt::format("{:.3g}", x);
 }
 
 }  // namespace
@@ -86,9 +88,12 @@ void validate(const Options& c) {
   }
   // The model's own checks (epsilon is set from the grid later; any positive value passes here).
   validate(ModelParameters{c.alpha, 1.0, c.phi_bar}, c.dt_h);
-  for (double x : {c.hole_diameter, c.spacing, c.porosity})
-    require(x >= 0.0 && finite(x), "hole_diameter",
-            "`hole_diameter`, `spacing` and `porosity` must be positive numbers (0: not given)");
+  // Each named for itself (issue 48: a bad `spacing` was reported as `hole_diameter`).
+  for (const auto& [x, name] : {std::pair{c.hole_diameter, "hole_diameter"}, std::pair{c.spacing, "spacing"},
+                                std::pair{c.porosity, "porosity"}})
+    require(x >= 0.0 && finite(x), name,
+            fmt::format("`{}` must be a positive number{} (0: not given)", name,
+                        std::string_view(name) == "porosity" ? "" : " in mm"));
   const bool holes = c.hole_diameter > 0.0 || c.spacing > 0.0 || c.porosity > 0.0;
   require(!c.grade || holes, "grade",
           "`grade` sets hole diameters in mm: add `hole_diameter` MM (and `spacing` MM or `porosity` F)");
@@ -110,7 +115,8 @@ double choose_voxel_size(double asked, const PatternPlan& plan) {
   if (asked <= 0.0) return plan.voxel_size;
   require(asked <= kCoarsestVoxelPerPlanned * plan.voxel_size, "voxel_size",
           "`voxel_size` " + mm(asked) + " mm is too coarse for holes at " + mm(plan.spacing) +
-              " mm spacing: use at most " + mm(kCoarsestVoxelPerPlanned * plan.voxel_size) +
+              " mm spacing: use at most " +
+              fmt::format("{:g}", rounded_down(kCoarsestVoxelPerPlanned * plan.voxel_size)) +
               " mm, or leave `voxel_size` out (" + mm(plan.voxel_size) + " mm)");
   return asked;
 }

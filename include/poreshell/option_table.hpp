@@ -1,0 +1,50 @@
+#pragma once
+// Every option of Options by its API name, once: its group, type, unit, valid range and help. The
+// report's `settings`, a project file and the studio's HTTP API read and write options through it as
+// JSON (the Python keywords and the CLI's flags, with - for _, use the same names).
+
+#include <span>
+#include <string>
+#include <string_view>
+
+#include "poreshell/export.hpp"
+#include "poreshell/options.hpp"
+
+namespace poreshell {
+
+enum class OptionType {
+  number,   // a real number
+  integer,  // a whole number
+  boolean,  // true or false
+  choice,   // one of the names of an enum (enum_names)
+  text,     // a string
+  numbers,  // a list of numbers (iso levels)
+  spheres,  // keep-out spheres: [[x, y, z, r], ...] or [{"centre": [x, y, z], "radius": r}, ...]
+  boxes,    // keep-out boxes: [[x0, y0, z0, x1, y1, z1], ...] or [{"min": [...], "max": [...]}, ...]
+  grade,    // null, a grading spec as the CLI takes it ("axis:y:7:10"), or the report's object
+};
+
+struct OptionInfo {
+  std::string_view name;   // the API name (Python keyword; the CLI's flag with - for _)
+  std::string_view group;  // holes, model, solid, zones, output, solver, run
+  OptionType type = OptionType::number;
+  std::string_view unit;        // "mm", "degrees", "GB", ... or empty
+  double min = 0.0, max = 0.0;  // numbers, integers: the valid range, inclusive
+  bool min_open = false;        // the range excludes min itself (> rather than >=)
+  std::string_view help;        // one line, for --help, the studio's fields
+  std::string_view choices;     // choice: the names, comma separated
+};
+
+// In the order of the report's `settings`.
+PORESHELL_API std::span<const OptionInfo> option_table();
+// The entry of `name`, or null.
+PORESHELL_API const OptionInfo* find_option(std::string_view name);
+
+// Every option as a JSON object by API name (the report's `settings`), as text.
+PORESHELL_API std::string options_to_json(const Options& options);
+// Options from a JSON object by API name; options it does not name keep their defaults. Throws Error
+// (invalid_option) naming the option for an unknown name, a value of the wrong type or out of range,
+// or a text that is not a JSON object; the result is then also checked by validate().
+PORESHELL_API Options options_from_json(std::string_view json_text);
+
+}  // namespace poreshell

@@ -1,0 +1,371 @@
+// The option table (include/poreshell/option_table.hpp): each option's description beside the two
+// functions that write it to JSON and read it back, so that a new option is one row here.
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <type_traits>
+#include <vector>
+
+#include "core/error.hpp"
+#include "io/option_json.hpp"
+#include "poreshell/option_table.hpp"
+
+namespace poreshell {
+namespace {
+
+using nlohmann::json;
+
+constexpr double kNoLimit = std::numeric_limits<double>::infinity();
+
+[[noreturn]] void refuse(const OptionInfo& info, const std::string& what, const json& value) {
+  throw OptionError(std::string(info.name),
+                    fmt::format("`{}` must be {}; got {}", info.name, what, value.dump()));
+}
+
+// "a number in mm, at least 0", "a whole number from 9 to 2048", "true or false", ...
+std::string expected(const OptionInfo& info) {
+  std::string text = info.type == OptionType::integer ? "a whole number" : "a number";
+  if (!info.unit.empty()) text += fmt::format(" in {}", info.unit);
+  const bool low = info.min > -kNoLimit, high = info.max < kNoLimit;
+  if (low && high)
+    text += info.min_open ? fmt::format(", between {:g} and {:g}", info.min, info.max)
+                          : fmt::format(", from {:g} to {:g}", info.min, info.max);
+  else if (low)
+    text += fmt::format(", {} {:g}", info.min_open ? "above" : "at least", info.min);
+  return text;
+}
+
+double number(const OptionInfo& info, const json& v) {
+  const bool integral = info.type == OptionType::integer;
+  if (!v.is_number() || (integral && !v.is_number_integer())) refuse(info, expected(info), v);
+  const double x = v.get<double>();
+  const bool in_range = std::isfinite(x) && (info.min_open ? x > info.min : x >= info.min) && x <= info.max;
+  if (!in_range) refuse(info, expected(info), v);
+  return x;
+}
+
+// Integers exactly (a seed may use all 64 bits), in the row's range.
+template <class T>
+T whole_number(const OptionInfo& info, const json& v) {
+  if (!v.is_number_integer()) refuse(info, expected(info), v);
+  const bool fits =
+      v.is_number_unsigned()
+          ? v.get<std::uint64_t>() <= static_cast<std::uint64_t>(std::numeric_limits<T>::max()) &&
+                static_cast<double>(v.get<std::uint64_t>()) <= info.max &&
+                static_cast<double>(v.get<std::uint64_t>()) >= info.min
+          : std::is_signed_v<T> && static_cast<double>(v.get<std::int64_t>()) >= info.min &&
+                static_cast<double>(v.get<std::int64_t>()) <= info.max;
+  if (!fits) refuse(info, expected(info), v);
+  return v.is_number_unsigned() ? static_cast<T>(v.get<std::uint64_t>())
+                                : static_cast<T>(v.get<std::int64_t>());
+}
+
+Point point(const OptionInfo& info, const json& v, const char* what) {
+  if (!v.is_array() || v.size() != 3) refuse(info, what, v);
+  Point p{};
+  for (std::size_t k = 0; k < 3; ++k) {
+    if (!v[k].is_number() || !std::isfinite(v[k].get<double>())) refuse(info, what, v);
+    p[k] = v[k].get<double>();
+  }
+  return p;
+}
+
+std::vector<KeepOutSphere> spheres(const OptionInfo& info, const json& v) {
+  constexpr const char* what = "a list of spheres, [[x, y, z, r], ...] in mm";
+  if (!v.is_array()) refuse(info, what, v);
+  std::vector<KeepOutSphere> out;
+  for (const json& s : v) {
+    if (s.is_array() && s.size() == 4) {
+      const json centre = {s[0], s[1], s[2]};
+      if (!s[3].is_number()) refuse(info, what, s);
+      out.push_back({point(info, centre, what), s[3].get<double>()});
+    } else if (s.is_object() && s.contains("centre") && s.contains("radius") && s["radius"].is_number()) {
+      out.push_back({point(info, s["centre"], what), s["radius"].get<double>()});
+    } else {
+      refuse(info, what, s);
+    }
+  }
+  return out;
+}
+
+std::vector<KeepOutBox> boxes(const OptionInfo& info, const json& v) {
+  constexpr const char* what = "a list of boxes, [[x0, y0, z0, x1, y1, z1], ...] in mm";
+  if (!v.is_array()) refuse(info, what, v);
+  std::vector<KeepOutBox> out;
+  for (const json& b : v) {
+    if (b.is_array() && b.size() == 6)
+      out.push_back({point(info, {b[0], b[1], b[2]}, what), point(info, {b[3], b[4], b[5]}, what)});
+    else if (b.is_object() && b.contains("min") && b.contains("max"))
+      out.push_back({point(info, b["min"], what), point(info, b["max"], what)});
+    else
+      refuse(info, what, b);
+  }
+  return out;
+}
+
+json grade_json(const std::optional<Grade>& g) {
+  if (!g) return nullptr;
+  return {{"kind", std::string(name_of(g->kind))},
+          {"axis", g->axis},
+          {"from", g->from},
+          {"to", g->to},
+          {"from_diameter", g->from_diameter},
+          {"to_diameter", g->to_diameter},
+          {"radius", g->radius},
+          {"field", g->field},
+          {"mapped", g->mapped}};
+}
+
+// null, or the report's object: {"kind": "axis", "axis": 1, "from_diameter": 7, "to_diameter": 10}
+// (fields left out keep Grade's defaults).
+std::optional<Grade> grade(const OptionInfo& info, const json& v) {
+  if (v.is_null()) return std::nullopt;
+  constexpr const char* what =
+      "null or a grading object, e.g. {\"kind\": \"axis\", \"axis\": 2, "
+      "\"from_diameter\": 4, \"to_diameter\": 8}";
+  if (!v.is_object() || !v.contains("kind") || !v["kind"].is_string()) refuse(info, what, v);
+  const std::optional<Grade::Kind> kind = enum_from_name<Grade::Kind>(v["kind"].get<std::string>());
+  if (!kind) refuse(info, what, v);
+  Grade g;
+  g.kind = *kind;
+  for (const auto& [key, value] : v.items()) {
+    const auto length = [&] {
+      if (!value.is_number() || !std::isfinite(value.get<double>())) refuse(info, what, v);
+      return value.get<double>();
+    };
+    if (key == "kind") continue;
+    if (key == "axis" && value.is_number_integer() && value.get<int>() >= 0 && value.get<int>() <= 2)
+      g.axis = value.get<int>();
+    else if (key == "from" || key == "to")
+      (key == "from" ? g.from : g.to) = point(info, value, what);
+    else if (key == "from_diameter")
+      g.from_diameter = length();
+    else if (key == "to_diameter")
+      g.to_diameter = length();
+    else if (key == "radius")
+      g.radius = length();
+    else if (key == "field" && value.is_string())
+      g.field = value.get<std::string>();
+    else if (key == "mapped" && value.is_boolean())
+      g.mapped = value.get<bool>();
+    else
+      refuse(info, what, v);
+  }
+  return g;
+}
+
+template <class T>
+constexpr bool is_list_of_spheres = std::is_same_v<T, std::vector<KeepOutSphere>>;
+template <class T>
+constexpr bool is_list_of_boxes = std::is_same_v<T, std::vector<KeepOutBox>>;
+
+template <auto Member>
+json write(const Options& o) {
+  using T = std::remove_cvref_t<decltype(o.*Member)>;
+  const T& value = o.*Member;
+  if constexpr (std::is_enum_v<T>) {
+    return std::string(name_of(value));
+  } else if constexpr (is_list_of_spheres<T>) {
+    json list = json::array();
+    for (const KeepOutSphere& k : value) list.push_back({{"centre", k.centre}, {"radius", k.radius}});
+    return list;
+  } else if constexpr (is_list_of_boxes<T>) {
+    json list = json::array();
+    for (const KeepOutBox& k : value) list.push_back({{"min", k.min}, {"max", k.max}});
+    return list;
+  } else if constexpr (std::is_same_v<T, std::optional<Grade>>) {
+    return grade_json(value);
+  } else {
+    return value;  // numbers (NaN as null), booleans, text, lists of numbers
+  }
+}
+
+template <auto Member>
+void read(Options& o, const OptionInfo& info, const json& v) {
+  using T = std::remove_cvref_t<decltype(o.*Member)>;
+  T& value = o.*Member;
+  if constexpr (std::is_same_v<T, bool>) {
+    if (!v.is_boolean()) refuse(info, "true or false", v);
+    value = v.get<bool>();
+  } else if constexpr (std::is_enum_v<T>) {
+    std::string name = v.is_string() ? v.get<std::string>() : "";
+    std::replace(name.begin(), name.end(), '-', '_');
+    const std::optional<T> e = enum_from_name<T>(name);
+    if (!e) refuse(info, fmt::format("one of {}", info.choices), v);
+    value = *e;
+  } else if constexpr (std::is_integral_v<T>) {
+    value = whole_number<T>(info, v);
+  } else if constexpr (std::is_same_v<T, double>) {
+    // The rim's default is "not given" (NaN), written as null.
+    value = v.is_null() && std::isnan(Options{}.*Member) ? Options{}.*Member : number(info, v);
+  } else if constexpr (std::is_same_v<T, std::string>) {
+    if (!v.is_string()) refuse(info, "a text", v);
+    value = v.get<std::string>();
+  } else if constexpr (std::is_same_v<T, std::vector<double>>) {
+    if (!v.is_array() || v.empty()) refuse(info, "a list of numbers", v);
+    value.clear();
+    for (const json& x : v) value.push_back(number(info, x));
+  } else if constexpr (is_list_of_spheres<T>) {
+    value = spheres(info, v);
+  } else if constexpr (is_list_of_boxes<T>) {
+    value = boxes(info, v);
+  } else {
+    value = grade(info, v);
+  }
+}
+
+struct Row {
+  OptionInfo info;
+  json (*write)(const Options&);
+  void (*read)(Options&, const OptionInfo&, const json&);
+};
+
+template <auto Member>
+Row row(OptionInfo info) {
+  return {info, &write<Member>, &read<Member>};
+}
+
+OptionInfo real(std::string_view name, std::string_view group, std::string_view unit, double min, double max,
+                bool min_open, std::string_view help) {
+  return {name, group, OptionType::number, unit, min, max, min_open, help, {}};
+}
+OptionInfo whole(std::string_view name, std::string_view group, double min, double max,
+                 std::string_view help) {
+  return {name, group, OptionType::integer, {}, min, max, false, help, {}};
+}
+OptionInfo other(std::string_view name, std::string_view group, OptionType type, std::string_view help,
+                 std::string_view choices = {}) {
+  return {name, group, type, {}, 0.0, 0.0, false, help, choices};
+}
+
+const std::vector<Row>& rows() {
+  constexpr bool open = true, closed = false;
+  constexpr double kIntMax = 9007199254740992.0;  // 2^53: every integer up to it is exact as a double
+  static const std::vector<Row> table = {
+      row<&Options::scale>(real("scale", "holes", "", 0, kNoLimit, open,
+                                "multiplies the input's coordinates after its unit (0.5: half size)")),
+      row<&Options::hole_diameter>(real("hole_diameter", "holes", "mm", 0, kNoLimit, closed,
+                                        "hole diameter; 0: not given (the paper's parameters)")),
+      row<&Options::spacing>(
+          real("spacing", "holes", "mm", 0, kNoLimit, closed, "centre to nearest centre; 0: diameter / 0.6")),
+      row<&Options::porosity>(real("porosity", "holes", "", 0, 1, closed,
+                                   "open share of the surface, instead of spacing; 0: not given")),
+      row<&Options::grade>(other("grade", "holes", OptionType::grade,
+                                 "hole diameters graded over the surface (axis, line, radial, field)")),
+      row<&Options::resolution>(whole("resolution", "model", 9, 2048, "grid points along the longest side")),
+      row<&Options::voxel_size>(real("voxel_size", "model", "mm", 0, kNoLimit, closed,
+                                     "grid spacing instead of resolution; 0: from the holes or resolution")),
+      row<&Options::mode>(
+          other("mode", "solid", OptionType::choice, "the printed solid", "shell, narrow_volume")),
+      row<&Options::wall>(real("wall", "solid", "mm", 0, kNoLimit, closed,
+                               "wall thickness; 0: 2 mm for holes in mm, else the band's width")),
+      row<&Options::offset>(other("offset", "solid", OptionType::choice, "the wall's side of the surface",
+                                  "centered, inside, outside")),
+      row<&Options::rim>(real("rim", "zones", "mm", 0, kNoLimit, closed,
+                              "solid along the open boundary; null: half a hole for holes in mm")),
+      row<&Options::thin_feature_ratio>(
+          real("thin_feature_ratio", "zones", "", 0, kNoLimit, closed,
+               "no hole where the part is thinner than this times a hole; 0: off")),
+      row<&Options::crease_angle>(real("crease_angle", "zones", "degrees", 0, 179.999, closed,
+                                       "no hole within half a hole of a sharper edge; 0: off")),
+      row<&Options::keep_out>(
+          other("keep_out", "zones", OptionType::spheres, "spheres kept solid, [[x, y, z, r], ...] in mm")),
+      row<&Options::keep_out_boxes>(other("keep_out_boxes", "zones", OptionType::boxes,
+                                          "boxes kept solid, [[x0, y0, z0, x1, y1, z1], ...] in mm")),
+      row<&Options::keep_out_mask>(other("keep_out_mask", "zones", OptionType::text,
+                                         "a vertex field of the mesh input: solid where it is 1")),
+      row<&Options::keep_fragments>(other("keep_fragments", "output", OptionType::boolean,
+                                          "keep specks and sealed voids instead of removing them")),
+      row<&Options::min_part_fraction>(real("min_part_fraction", "output", "", 0, 0.999999, closed,
+                                            "parts and voids under this share of the largest are removed")),
+      row<&Options::max_triangles>(whole("max_triangles", "output", 0, kIntMax,
+                                         "reduce each output to at most this many; 0: no count")),
+      row<&Options::max_deviation>(
+          real("max_deviation", "output", "mm", 0, kNoLimit, closed,
+               "bound on the reduction's distance from the full isosurface; 0: none")),
+      row<&Options::alpha>(
+          real("alpha", "model", "", -kNoLimit, kNoLimit, closed, "the model's alpha (2.1)")),
+      row<&Options::epsilon_m>(
+          real("epsilon_m", "model", "", 0, kNoLimit, open, "epsilon = m h / (2 sqrt 2 atanh 0.9)")),
+      row<&Options::dt_h>(real("dt_h", "model", "h", 0, kNoLimit, open, "time step in units of h")),
+      row<&Options::phi_bar>(real("phi_bar", "model", "", -1, 1, closed, "mean of phi (the solid share)")),
+      row<&Options::iso>(OptionInfo{
+          "iso", "output", OptionType::numbers, {}, -1, 1, open, "pore levels, one output each", {}}),
+      row<&Options::initial_amplitude>(real("initial_amplitude", "model", "", 0, kNoLimit, closed,
+                                            "amplitude of the initial condition's noise")),
+      row<&Options::seed>(whole("seed", "holes", 0, 18446744073709551615.0, "seed of the initial condition")),
+      row<&Options::preview>(other("preview", "run", OptionType::boolean,
+                                   "the pattern alone on the surface, in about a second")),
+      row<&Options::stop>(other("stop", "solver", OptionType::choice, "when the run to steady state ends",
+                                "auto, paper, holes")),
+      row<&Options::layout>(
+          other("layout", "solver", OptionType::choice, "the hole layout", "auto, paper, cvt")),
+      row<&Options::tolerance>(
+          real("tolerance", "solver", "", 0, kNoLimit, open, "stop when e_c < tolerance")),
+      row<&Options::max_steps>(whole("max_steps", "solver", 1, kIntMax, "time steps at most")),
+      row<&Options::solver>(other("solver", "solver", OptionType::choice, "the solver", "fast, reference")),
+      row<&Options::fast_tolerance>(
+          real("fast_tolerance", "solver", "", 0, kNoLimit, open, "fast solver: error bound of each solve")),
+      row<&Options::min_stabilisation>(
+          real("min_stabilisation", "solver", "", 0, kNoLimit, closed, "fast solver: floor on S")),
+      row<&Options::coarse_start>(other("coarse_start", "solver", OptionType::boolean,
+                                        "fast solver: form large pores on a coarser grid first")),
+      row<&Options::inner>(other("inner", "solver", OptionType::choice, "reference solver: inner relaxation",
+                                 "gauss_seidel, jacobi")),
+      row<&Options::inner_tolerance>(
+          real("inner_tolerance", "solver", "", 0, kNoLimit, open, "reference solver: inner tolerance")),
+      row<&Options::energy_every>(
+          whole("energy_every", "run", 0, kIntMax, "evaluate the energy every K steps; 0: never")),
+      row<&Options::point_route>(
+          other("point_route", "model", OptionType::choice, "point clouds' route", "direct, paper")),
+      row<&Options::max_memory_gb>(real("max_memory_gb", "run", "GB", 0, kNoLimit, closed,
+                                        "refuse runs estimated to need more; 0: what is available")),
+      row<&Options::threads>(whole("threads", "run", 0, 4096, "worker threads; 0: all cores")),
+  };
+  return table;
+}
+
+}  // namespace
+
+std::span<const OptionInfo> option_table() {
+  static const std::vector<OptionInfo> infos = [] {
+    std::vector<OptionInfo> out;
+    for (const Row& r : rows()) out.push_back(r.info);
+    return out;
+  }();
+  return infos;
+}
+
+const OptionInfo* find_option(std::string_view name) {
+  for (const OptionInfo& info : option_table())
+    if (info.name == name) return &info;
+  return nullptr;
+}
+
+json options_json(const Options& options) {
+  json out = json::object();
+  for (const Row& r : rows()) out[std::string(r.info.name)] = r.write(options);
+  return out;
+}
+
+Options options_from_json_object(const json& settings) {
+  if (!settings.is_object())
+    throw OptionError("",
+                      fmt::format("options must be a JSON object by option name; got {}", settings.dump()));
+  Options options;
+  for (const auto& [name, value] : settings.items()) {
+    const auto row =
+        std::find_if(rows().begin(), rows().end(), [&](const Row& r) { return r.info.name == name; });
+    if (row == rows().end())
+      throw OptionError(name,
+                        fmt::format("`{}` is not an option (the report's `settings` lists them all)", name));
+    row->read(options, row->info, value);
+  }
+  return options;
+}
+
+}  // namespace poreshell
