@@ -79,11 +79,10 @@ void file(Server::Impl& impl, const Request& req, Response& res) {
   if (!in) return answer_error(res, 404, "the file is gone");
   std::ostringstream bytes;
   bytes << in.rdbuf();
-  const bool text = name.ends_with(".json") || name.ends_with(".csv");
   res.set_header("Content-Disposition", "attachment; filename=\"" + name + "\"");
-  res.set_content(bytes.str(), name.ends_with(".json") ? "application/json"
-                               : text                  ? "text/csv"
-                                                       : "application/octet-stream");
+  // Not "text/csv" nor bare "application/json": httplib would brotli them (server.cpp, answer_json).
+  res.set_content(bytes.str(),
+                  name.ends_with(".json") ? "application/json; charset=utf-8" : "application/octet-stream");
 }
 
 }  // namespace

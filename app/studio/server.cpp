@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <fstream>
+#include <sstream>
 #include <stdexcept>
 #include <system_error>
 
@@ -20,9 +21,13 @@ using httplib::Response;
 Server::Impl::Impl(ServerConfig c)
     : config(std::move(c)), models(config.workdir / "models"), jobs(config.workdir / "jobs") {}
 
+// Debian's httplib compresses bodies of "application/json" and "text/..." with brotli at its highest
+// quality when the browser accepts it: 8 s for a bunny's 4 MB preview against 0.003 s for the bytes on
+// the loopback. The charset keeps JSON out of its list; the page goes out through a content provider,
+// which it leaves alone.
 void answer_json(Response& res, const nlohmann::json& body, int status) {
   res.status = status;
-  res.set_content(body.dump(), "application/json");
+  res.set_content(body.dump(), "application/json; charset=utf-8");
 }
 
 void answer_error(Response& res, int status, const std::string& message, const std::string& option) {
@@ -133,7 +138,12 @@ void add_routes(Server::Impl& impl) {
       res.set_header("Set-Cookie",
                      "poreshell_token=" + impl.config.token + "; Path=/; HttpOnly; SameSite=Strict");
     res.set_header("Cache-Control", "no-store");
-    res.set_content(studio_page(), "text/html; charset=utf-8");
+    const std::string& page = studio_page();
+    res.set_content_provider(page.size(), "text/html; charset=utf-8",
+                             [&page](std::size_t offset, std::size_t length, httplib::DataSink& sink) {
+                               return sink.write(page.data() + offset,
+                                                 std::min(length, page.size() - offset));
+                             });
   });
   http.Get("/api/health", [&impl](const Request&, Response& res) {
     const auto model = impl.models.get(0);
@@ -141,7 +151,10 @@ void add_routes(Server::Impl& impl) {
                       {"model", model ? nlohmann::json(model->id) : nlohmann::json(nullptr)},
                       {"scale", impl.start_scale}});
   });
-  http.Get("/api/options", [](const Request&, Response& res) { answer_json(res, option_table_json()); });
+  http.Get("/api/options", [](const Request&, Response& res) {
+    answer_json(res, {{"options", option_table_json()},
+                      {"defaults", nlohmann::json::parse(poreshell::options_to_json(poreshell::Options{}))}});
+  });
   http.Post("/api/model", [&impl](const Request& req, Response& res, const httplib::ContentReader& reader) {
     upload_model(impl, req, res, reader);
   });
@@ -149,6 +162,15 @@ void add_routes(Server::Impl& impl) {
     const auto model = impl.models.get(std::stoi(req.matches[1]));
     if (!model) return answer_error(res, 404, "no such model");
     answer_json(res, model_json(*model, true));
+  });
+  // The model's file as uploaded (the page embeds it in a saved project).
+  http.Get(R"(/api/model/(\d{1,9})/file)", [&impl](const Request& req, Response& res) {
+    const auto model = impl.models.get(std::stoi(req.matches[1]));
+    std::ifstream in(model ? model->path : fs::path(), std::ios::binary);
+    if (!model || !in) return answer_error(res, 404, "no such model");
+    std::ostringstream bytes;
+    bytes << in.rdbuf();
+    res.set_content(bytes.str(), "application/octet-stream");
   });
   http.Post("/api/preview", [&impl](const Request& req, Response& res) {
     try {

@@ -157,7 +157,8 @@ TEST_F(Studio, PageSetsTheCookieAndNeedsNoNetwork) {
   EXPECT_EQ(page->body.find("href=\"http"), std::string::npos);
   const auto options = client().Get("/api/options");
   ASSERT_EQ(options->status, 200);
-  EXPECT_TRUE(body(options).is_array());
+  EXPECT_TRUE(body(options)["options"].is_array());
+  EXPECT_EQ(body(options)["defaults"]["crease_angle"], 40.0);
 }
 
 TEST_F(Studio, UploadsAreCheckedAndStoredUnderTheStudiosNames) {
