@@ -1,5 +1,7 @@
 #include "jobs.hpp"
 
+#include <malloc.h>
+
 #include <algorithm>
 #include <chrono>
 #include <fstream>
@@ -102,6 +104,11 @@ void Jobs::shutdown() {
 }
 
 void Jobs::run(const std::shared_ptr<Job>& job, const RunRequest& request) {
+  // A run's free memory goes back to the system when it ends: the studio then idles at its models'
+  // size (100 MB resident after the sleeve's Make without it, 30 with it).
+  struct Trim {
+    ~Trim() { ::malloc_trim(0); }
+  } trim;
   const auto start = std::chrono::steady_clock::now();
   job->update([](JobStatus& s) { s.state = JobState::running; });
   try {

@@ -4,6 +4,10 @@
 
 #include <gtest/gtest.h>
 #include <httplib.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cmath>
@@ -17,6 +21,8 @@
 
 #include "base64.hpp"
 #include "server.hpp"
+
+extern char** environ;
 
 namespace {
 
@@ -305,6 +311,55 @@ TEST_F(Studio, CancelAndADisconnectingClientLeaveTheServerWell) {
     EXPECT_FALSE(fs::exists(workdir_ / "jobs" / std::to_string(job)));
   }
   EXPECT_EQ(c.Get("/api/health")->status, 200);
+}
+
+}  // namespace
+
+namespace {
+
+// The program itself: its first line is the address, and SIGTERM during a job stops it cleanly, the
+// job's files removed and the temporary work folder with them.
+TEST(StudioProgram, PrintsItsAddressAndStopsCleanlyOnSigterm) {
+  const fs::path work =
+      fs::temp_directory_path() / ("poreshell-test-studio-exe-" + std::to_string(::getpid()));
+  fs::remove_all(work);
+  int out[2];
+  ASSERT_EQ(::pipe(out), 0);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_adddup2(&actions, out[1], STDOUT_FILENO);
+  posix_spawn_file_actions_addclose(&actions, out[0]);
+  const std::string dir = work.string();
+  const char* argv[] = {PORESHELL_EXE, "studio",    "--no-browser", "--port",
+                        "0",           "--workdir", dir.c_str(),    nullptr};
+  pid_t pid = 0;
+  ASSERT_EQ(::posix_spawn(&pid, PORESHELL_EXE, &actions, nullptr, const_cast<char* const*>(argv), environ),
+            0);
+  posix_spawn_file_actions_destroy(&actions);
+  ::close(out[1]);
+  std::string line;
+  for (char c; ::read(out[0], &c, 1) == 1 && c != '\n';) line.push_back(c);
+  ::close(out[0]);
+  const std::string prefix = "studio: http://127.0.0.1:";
+  ASSERT_EQ(line.rfind(prefix, 0), 0u) << line;
+  const std::size_t slash = line.find("/?token=");
+  ASSERT_NE(slash, std::string::npos) << line;
+  const int port = std::stoi(line.substr(prefix.size(), slash - prefix.size()));
+  const std::string token = line.substr(slash + 8);
+  EXPECT_GE(token.size(), 32u);
+
+  httplib::Client c("127.0.0.1", port);
+  c.set_default_headers({{"X-Poreshell-Token", token}});
+  ASSERT_EQ(c.Post("/api/model?name=ball.obj", sphere_obj(20.0, 3), "text/plain")->status, 200);
+  const auto made =
+      c.Post("/api/make", R"({"options": {"hole_diameter": 4, "spacing": 7}})", "application/json");
+  ASSERT_EQ(made->status, 200) << made->body;
+  ::kill(pid, SIGTERM);
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << status;
+  EXPECT_TRUE(fs::is_empty(work / "jobs"));  // the cancelled job left nothing
+  fs::remove_all(work);
 }
 
 }  // namespace
