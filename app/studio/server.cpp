@@ -208,6 +208,9 @@ Server::Server(ServerConfig config) : impl_(std::make_unique<Impl>(std::move(con
   fs::create_directories(impl_->config.workdir / "models");
   fs::create_directories(impl_->config.workdir / "jobs");
   impl_->http.set_payload_max_length(impl_->config.upload_limit);
+  // Debian's build leaves Nagle on: a small answer then waits 40 ms for the client's delayed ACK between
+  // its header and its body (bench/studio/http_libraries: 43 ms a /health request, 0.1 ms with this).
+  impl_->http.set_tcp_nodelay(true);
   impl_->http.set_pre_routing_handler(
       [impl = impl_.get()](const Request& req, Response& res) { return guard(*impl, req, res); });
   add_routes(*impl_);
