@@ -243,15 +243,24 @@
     state.keepOuts.forEach((k, i) => {
       const li = document.createElement('li');
       if (i === state.selected) li.className = 'selected';
-      const where = document.createElement('span');
-      where.textContent = k.slice(0, 3).map((v) => v.toFixed(1)).join(', ');
+      // The centre, typed as "x, y, z" (mm): how a sphere is moved.
+      const where = document.createElement('input');
+      where.type = 'text';
+      where.title = 'centre x, y, z, mm';
+      where.value = k.slice(0, 3).map((v) => v.toFixed(1)).join(', ');
+      where.addEventListener('change', () => {
+        const c = where.value.split(',').map(Number);
+        if (c.length === 3 && c.every(isFinite)) commit(() => { state.keepOuts[i].splice(0, 3, ...c); });
+        else where.value = k.slice(0, 3).map((v) => v.toFixed(1)).join(', ');
+      });
       const r = document.createElement('input');
       r.type = 'number'; r.min = '0.1'; r.step = 'any'; r.value = k[3]; r.title = 'radius, mm';
       r.addEventListener('change', () => commit(() => { state.keepOuts[i][3] = Number(r.value); }));
       const del = document.createElement('button');
       del.textContent = '×'; del.title = 'delete';
       del.addEventListener('click', () => commit(() => { state.keepOuts.splice(i, 1); state.selected = -1; }));
-      li.addEventListener('click', (e) => { if (e.target === li || e.target === where) { state.selected = i; listKeepOuts(); drawZones(); } });
+      li.addEventListener('click', (e) => { if (e.target === li) { state.selected = i; listKeepOuts(); drawZones(); } });
+      where.addEventListener('focus', () => { if (state.selected !== i) { state.selected = i; drawZones(); } });
       li.append(where, r, del);
       list.append(li);
     });

@@ -102,10 +102,8 @@ class Studio : public ::testing::Test {
     EXPECT_EQ(r->status, expected_status) << r->body;
     return body(r);
   }
-  static int sphere_model() {
-    static const int id = upload("ball.obj", sphere_obj(20.0, 3), 200)["id"].get<int>();
-    return id;
-  }
+  // A fresh upload each time: the studio keeps its last three models.
+  static int sphere_model() { return upload("ball.obj", sphere_obj(20.0, 3), 200)["id"].get<int>(); }
   static json wait_done(int job) {
     for (int i = 0; i < 600; ++i) {
       auto r = client().Get(std::string("/api/jobs/") + std::to_string(job));
