@@ -115,7 +115,8 @@
     const o = Object.assign({}, state.options);
     delete o[state.by === 'spacing' ? 'porosity' : 'spacing'];
     if (state.grade.axis && state.grade.from !== '' && state.grade.to !== '')
-      o.grade = `axis:${state.grade.axis}:${state.grade.from}:${state.grade.to}`;
+      o.grade = { kind: 'axis', axis: 'xyz'.indexOf(state.grade.axis), from_diameter: Number(state.grade.from),
+                  to_diameter: Number(state.grade.to) };
     if (state.keepOuts.length) o.keep_out = state.keepOuts.map((k) => k.slice());
     return o;
   }
@@ -525,8 +526,8 @@
     undoStack.push(snapshot());
     const o = Object.assign({}, p.options);
     state.keepOuts = (o.keep_out || []).map((k) => (Array.isArray(k) ? k.slice() : [...k.centre, k.radius]));
-    const g = typeof o.grade === 'string' ? o.grade.split(':') : [];
-    state.grade = g[0] === 'axis' ? { axis: g[1], from: g[2], to: g[3] } : { axis: '', from: '', to: '' };
+    const g = o.grade && typeof o.grade === 'object' && o.grade.kind === 'axis' ? o.grade : null;
+    state.grade = g ? { axis: 'xyz'[g.axis], from: String(g.from_diameter), to: String(g.to_diameter) } : { axis: '', from: '', to: '' };
     state.by = o.porosity ? 'porosity' : 'spacing';
     delete o.keep_out;
     delete o.grade;

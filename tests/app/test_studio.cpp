@@ -191,6 +191,26 @@ TEST_F(Studio, PreviewGivesHolesAndCentresAndKeepsOutWhereAsked) {
   ASSERT_EQ(p["centres"].size(), p["holes"].get<std::size_t>());
   EXPECT_GT(p["figures"]["porosity"].get<double>(), 0.0);
   EXPECT_TRUE(p["surface"]["positions"].is_string());
+  // Graded along z from 4 to 8 mm: the smallest holes low, the largest high.
+  const json graded = body(client().Post(
+      "/api/preview",
+      R"({"options": {"hole_diameter": 6, "spacing": 10, "grade": {"kind": "axis", "axis": 2, "from_diameter": 4, "to_diameter": 8}}})",
+      "application/json"));
+  ASSERT_GT(graded["holes"].get<int>(), 2) << graded.dump().substr(0, 300);
+  double low = 0, high = 0;
+  int lows = 0, highs = 0;
+  for (std::size_t i = 0; i < graded["centres"].size(); ++i) {
+    const double z = graded["centres"][i][2].get<double>(), d = graded["diameters"][i].get<double>();
+    if (z < -10) {
+      low += d;
+      ++lows;
+    } else if (z > 10) {
+      high += d;
+      ++highs;
+    }
+  }
+  ASSERT_TRUE(lows > 0 && highs > 0);
+  EXPECT_GT(high / highs, low / lows + 1.0) << "low " << low / lows << " high " << high / highs;
   // A keep-out over the +z cap and a painted -z cap: no hole centre in either.
   const std::string body_text =
       R"({"options": {"hole_diameter": 6, "spacing": 10, "keep_out": [[0, 0, 20, 12]]}})";

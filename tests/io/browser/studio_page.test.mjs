@@ -112,6 +112,26 @@ try {
   const inBand = await page.evaluate(() => window.studio.centresInPaint());
   expect(painted > 50 && inBand === 0, `painted band: ${painted} vertices, ${inBand} hole centres in it`);
 
+  // Undo takes the band away, redo brings it back (each edit one step).
+  await page.click('#undo');
+  const undone = await page.evaluate(() => (window.studio.requestBody().keep_out_mask_values || []).length);
+  count = await page.evaluate(() => window.studio.previews);
+  await page.click('#redo');
+  const redone = await page.evaluate(() => (window.studio.requestBody().keep_out_mask_values || []).filter((v) => v).length);
+  expect(undone === 0 && redone === painted, `undo: ${undone} painted, redo: ${redone}`);
+  await page.waitForFunction((n) => window.studio.previews > n, { timeout: 30000 }, count);
+
+  // Larger holes for the Make (its grid follows the holes: 14 mm at 24 mm takes a third of 10 at 14),
+  // set as one edit.
+  count = await page.evaluate(() => window.studio.previews);
+  await page.evaluate(() => {
+    document.getElementById('opt-spacing').value = '24';
+    const d = document.getElementById('opt-hole_diameter');
+    d.value = '14';
+    d.dispatchEvent(new Event('change'));
+  });
+  await page.waitForFunction((n) => window.studio.previews > n, { timeout: 30000 }, count);
+
   // Make: the progress ends done; the part is closed, manifold, one part.
   await page.click('#make');
   await page.waitForFunction(() => window.studio.job, { timeout: 40000 });
