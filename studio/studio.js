@@ -156,18 +156,24 @@
   let surface = null, zones = new THREE.Group(), paint = null, controls = null, upAxis = 'z';
   scene.add(zones);
   const BASE = new THREE.Color(0xd8cbb3), HOLE = new THREE.Color(0x2d3440);
+  const raycaster = new THREE.Raycaster();
 
   function setSurface(positions, indices, colourOf) {
     if (surface) { scene.remove(surface); surface.geometry.dispose(); }
     const g = new THREE.BufferGeometry();
     g.setAttribute('position', new THREE.BufferAttribute(positions, 3));
-    g.setIndex(new THREE.BufferAttribute(indices, 1));
     const colours = new Float32Array(positions.length);
     for (let v = 0; v < positions.length / 3; ++v) colourOf(v).toArray(colours, 3 * v);
     g.setAttribute('color', new THREE.BufferAttribute(colours, 3));
-    g.computeVertexNormals();
     g.computeBoundingSphere();
-    surface = new THREE.Mesh(g, material);
+    if (indices.length) {
+      g.setIndex(new THREE.BufferAttribute(indices, 1));
+      g.computeVertexNormals();
+      surface = new THREE.Mesh(g, material);
+    } else {  // a point cloud until its first preview
+      surface = new THREE.Points(g, new THREE.PointsMaterial({ vertexColors: THREE.VertexColors, size: 2, sizeAttenuation: false }));
+      raycaster.params.Points.threshold = g.boundingSphere.radius / 200;
+    }
     scene.add(surface);
     render();
   }
@@ -275,7 +281,6 @@
       for (const u of ['orbit', 'sphere', 'paint', 'erase']) $('tool-' + u).classList.toggle('on', u === t);
       if (controls) controls.enabled = t === 'orbit' || t === 'sphere';
     });
-  const raycaster = new THREE.Raycaster();
   function hit(e, objects) {
     const rect = renderer.domElement.getBoundingClientRect();
     raycaster.setFromCamera(new THREE.Vector2(((e.clientX - rect.left) / rect.width) * 2 - 1,

@@ -11,8 +11,10 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <sstream>
 #include <thread>
@@ -378,6 +380,50 @@ TEST(StudioProgram, PrintsItsAddressAndStopsCleanlyOnSigterm) {
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << status;
   EXPECT_TRUE(fs::is_empty(work / "jobs"));  // the cancelled job left nothing
   fs::remove_all(work);
+}
+
+}  // namespace
+
+namespace {
+
+std::string read_bytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  return bytes.str();
+}
+
+// A project (the model embedded, a keep-out, a painted cap) run by `poreshell --project` writes the
+// same 3MF, byte for byte, as the studio's Make of the same request.
+TEST_F(Studio, ProjectThroughTheCommandLineGivesMakesBytes) {
+  const std::string obj = sphere_obj(20.0, 3);
+  const json model = upload("ball.obj", obj, 200);
+  const std::string positions = *studio::base64_decode(model["mesh"]["positions"].get<std::string>());
+  json mask = json::array();
+  for (std::size_t v = 0; v < positions.size() / 12; ++v) {
+    float z = 0;
+    std::memcpy(&z, positions.data() + v * 12 + 8, sizeof z);
+    mask.push_back(z < -12.0f ? 1 : 0);
+  }
+  const json options = {{"hole_diameter", 6}, {"spacing", 10}, {"keep_out", {{0, 20, 0, 8}}}};
+  const json request = {{"model", model["id"]}, {"options", options}, {"keep_out_mask_values", mask}};
+  const auto made = client().Post("/api/make", request.dump(), "application/json");
+  ASSERT_EQ(made->status, 200) << made->body;
+  const int job = body(made)["job"].get<int>();
+  ASSERT_EQ(wait_done(job)["state"], "done");
+  const std::string part = read_bytes(workdir_ / "jobs" / std::to_string(job) / "part.3mf");
+  ASSERT_GT(part.size(), 1000u);
+
+  const fs::path project = workdir_ / "p.json", out = workdir_ / "cli.3mf";
+  const json file = {{"poreshell_project", 1},
+                     {"model", {{"name", "ball.obj"}, {"units", "mm"}, {"data", studio::base64_encode(obj)}}},
+                     {"options", options},
+                     {"keep_out_mask_values", mask}};
+  std::ofstream(project) << file.dump();
+  const std::string command = std::string("'") + PORESHELL_EXE + "' --project '" + project.string() +
+                              "' -o '" + out.string() + "' -q";
+  ASSERT_EQ(std::system(command.c_str()), 0) << command;
+  EXPECT_TRUE(read_bytes(out) == part) << read_bytes(out).size() << " bytes against " << part.size();
 }
 
 }  // namespace
