@@ -324,6 +324,13 @@ std::optional<Command> parse_command_line(int argc, const char* const* argv) {
   app.add_option("--html", html, "write the interactive viewer: one self-contained page, opens offline")
       ->type_name("OUT.html");
   app.add_option("--png", png, "write a picture of the viewer's view (needs chromium)")->type_name("OUT.png");
+  app.add_option("--project", command.project,
+                 "run a studio project (docs/studio.md): its model, settings, keep-outs and painted mask; "
+                 "the same file as the studio's Make")
+      ->type_name("FILE")
+      ->excludes(shape)
+      ->excludes(mesh_option);
+  app.footer("poreshell studio [MODEL] [--port N] ...: the browser front end (poreshell studio --help)");
   app.allow_extras();
 
   try {

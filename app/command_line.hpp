@@ -14,6 +14,8 @@ struct Command {
   poreshell::Unit unit = poreshell::Unit::mm;
   double radius = 0.0;  // of the shape, mm (0: the unit cube)
   std::string output, report, holes_csv, html, png;
+  std::string project;  // a studio project (docs/studio.md): its model and options replace the flags'
+
   std::string progress = "auto";
   bool quiet = false;
   double max_seconds = 0.0;            // 0: no time budget

@@ -17,6 +17,8 @@
 #include "command_line.hpp"
 #include "poreshell/poreshell.hpp"
 #include "progress_display.hpp"
+#include "project.hpp"
+#include "studio.hpp"
 #include "summary.hpp"
 
 namespace {
@@ -58,7 +60,12 @@ int run(int argc, char** argv) {
   stop_on_interrupt();
   const std::optional<Command> parsed = parse_command_line(argc, argv);
   if (!parsed) return 0;  // --help, --version
-  const Command& command = *parsed;
+  Command command = *parsed;
+  std::optional<studio::Project> project;
+  if (!command.project.empty()) {
+    project = studio::load_project(command.project);
+    command.options = project->options;
+  }
   const poreshell::Options& options = command.options;
   const std::string &output = command.output, &report = command.report, &holes_csv = command.holes_csv,
                     &html = command.html, &png = command.png, &mesh = command.mesh, &points = command.points;
@@ -69,7 +76,9 @@ int run(int argc, char** argv) {
   check_output_paths(command);
 
   poreshell::Input input;
-  if (!mesh.empty()) {
+  if (project) {
+    input = std::move(project->input);
+  } else if (!mesh.empty()) {
     std::vector<std::string> fields;
     if (!options.keep_out_mask.empty()) fields.push_back(options.keep_out_mask);
     if (options.grade && options.grade->kind == poreshell::Grade::Kind::field)
@@ -136,6 +145,7 @@ int run(int argc, char** argv) {
 
 int main(int argc, char** argv) {
   try {
+    if (argc > 1 && std::string_view(argv[1]) == "studio") return studio_main(argc - 1, argv + 1);
     return run(argc, argv);
   } catch (const Error& e) {  // its message says what to fix
     fmt::print(stderr, "poreshell: error: {}\n", with_flags(e.what()));
