@@ -25,8 +25,8 @@
 
 #include "geometry/mesh.hpp"
 #include "io/mesh_io.hpp"
-#include "shell/collapse_bounds.hpp"
-#include "shell/mesh_decimate.hpp"
+#include "reduce/collapse_bounds.hpp"
+#include "reduce/mesh_decimate.hpp"
 
 int main(int argc, char** argv) {
   using namespace poreshell;

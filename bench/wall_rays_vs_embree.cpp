@@ -1,4 +1,4 @@
-// The wall probes' ray casting (shell/wall_measure.cpp) against Embree 3, both in this process: 128
+// The wall probes' ray casting (measure/wall_measure.cpp) against Embree 3, both in this process: 128
 // probes (256 rays) across a thick spherical shell of about 2 M triangles, the size of the bunny's
 // shell at the default resolution. Time and peak memory of each, and the walls they measure.
 // Usage: bench_wall_rays_vs_embree [threads] [slices]   (defaults: 2 threads, 1000 slices: 2.0 M triangles)
@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "geometry/mesh.hpp"
-#include "shell/wall_measure.hpp"
+#include "measure/wall_measure.hpp"
 
 namespace {
 

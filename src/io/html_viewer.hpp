@@ -17,7 +17,7 @@
 namespace poreshell {
 
 // The most triangles write_html_viewer takes: reduce larger meshes for display first (e.g. with
-// shell/mesh_decimate.hpp). At this size the page is about 9 MB (12 bytes a vertex and 12 a triangle,
+// reduce/mesh_decimate.hpp). At this size the page is about 9 MB (12 bytes a vertex and 12 a triangle,
 // base64 4/3, plus 0.9 MB of three.js).
 inline constexpr std::size_t html_viewer_max_triangles = 300'000;
 

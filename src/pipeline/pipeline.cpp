@@ -13,17 +13,17 @@
 
 #include "core/error.hpp"
 #include "core/heap.hpp"
+#include "geometry/printability.hpp"
 #include "geometry/refine.hpp"
 #include "input/vertex_field.hpp"
+#include "measure/wall_probes.hpp"
 #include "pattern/grading.hpp"
 #include "pattern/layout.hpp"
 #include "pattern/solid_zones.hpp"
 #include "pipeline/run_cost.hpp"
 #include "pipeline/validate.hpp"
 #include "shell/narrow_volume.hpp"
-#include "shell/printability.hpp"
 #include "shell/shell.hpp"
-#include "shell/wall_probes.hpp"
 #include "solver/solve.hpp"
 
 namespace poreshell {

@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "band/band.hpp"
-#include "shell/hole_table.hpp"
+#include "measure/hole_table.hpp"
 
 namespace poreshell {
 namespace {

@@ -20,8 +20,8 @@
 #include "deviation_probe.hpp"
 #include "geometry/isosurface.hpp"
 #include "geometry/mesh_surface.hpp"
-#include "shell/collapse_bounds.hpp"
-#include "shell/mesh_decimate.hpp"
+#include "reduce/collapse_bounds.hpp"
+#include "reduce/mesh_decimate.hpp"
 
 namespace poreshell {
 namespace {

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "shell/wall_measure.hpp"
+#include "measure/wall_measure.hpp"
 
 namespace poreshell {
 namespace {

@@ -1,4 +1,4 @@
-#include "shell/deviation_check.hpp"
+#include "reduce/deviation_check.hpp"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>

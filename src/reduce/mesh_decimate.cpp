@@ -1,4 +1,4 @@
-#include "shell/mesh_decimate.hpp"
+#include "reduce/mesh_decimate.hpp"
 
 // Edge collapses (edge_collapse.hpp) make the reduction; the result is then checked with
 // analyze_topology(), searches across the original's edges (OriginalSurface::distance2_from()) and,
@@ -30,9 +30,9 @@
 
 #include "core/error.hpp"
 #include "geometry/mesh_surface.hpp"
-#include "shell/collapse_bounds.hpp"
-#include "shell/edge_collapse.hpp"
-#include "shell/printability.hpp"
+#include "geometry/printability.hpp"
+#include "reduce/collapse_bounds.hpp"
+#include "reduce/edge_collapse.hpp"
 
 namespace poreshell {
 namespace {

@@ -1,4 +1,4 @@
-#include "shell/collapse_bounds.hpp"
+#include "reduce/collapse_bounds.hpp"
 
 #include <tbb/parallel_for.h>
 

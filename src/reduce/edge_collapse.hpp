@@ -17,8 +17,8 @@
 #include <vector>
 
 #include "geometry/mesh.hpp"
-#include "shell/collapse_bounds.hpp"
-#include "shell/mesh_decimate.hpp"
+#include "reduce/collapse_bounds.hpp"
+#include "reduce/mesh_decimate.hpp"
 
 namespace poreshell {
 

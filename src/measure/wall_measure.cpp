@@ -1,4 +1,4 @@
-#include "shell/wall_measure.hpp"
+#include "measure/wall_measure.hpp"
 
 // Each probe casts a ray both ways along its normal; its first hit on the mesh on each side gives the
 // wall. Rays are hashed into cells along their segments, so each triangle is tested only against the

@@ -1,4 +1,4 @@
-#include "shell/edge_collapse.hpp"
+#include "reduce/edge_collapse.hpp"
 
 // A corner table (each corner's vertex, and the corner across the edge it faces), error quadrics and
 // a queue of vertices by error per worker, the workers on separate parts of the mesh at once. OpenMesh's

@@ -1,4 +1,4 @@
-#include "shell/wall_probes.hpp"
+#include "measure/wall_probes.hpp"
 
 #include <algorithm>
 

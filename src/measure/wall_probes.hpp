@@ -9,10 +9,10 @@
 #include "band/band.hpp"
 #include "geometry/winding_number.hpp"
 #include "input/placement.hpp"
+#include "measure/hole_table.hpp"
+#include "measure/wall_measure.hpp"
 #include "pattern/pattern.hpp"
-#include "shell/hole_table.hpp"
 #include "shell/shell.hpp"
-#include "shell/wall_measure.hpp"
 
 namespace poreshell {
 

@@ -1,4 +1,4 @@
-#include "shell/printability.hpp"
+#include "geometry/printability.hpp"
 
 #include "core/error.hpp"
 

@@ -9,7 +9,7 @@
 #include <optional>
 
 #include "geometry/mesh.hpp"
-#include "shell/deviation_check.hpp"
+#include "reduce/deviation_check.hpp"
 
 namespace poreshell {
 

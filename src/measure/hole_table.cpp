@@ -1,4 +1,4 @@
-#include "shell/hole_table.hpp"
+#include "measure/hole_table.hpp"
 
 // One pass over the triangles finds, for every seed, those that cross its cut within its reach (the
 // seeds are hashed into cells, as the wall probes' rays are), so no search tree over a mesh of millions
