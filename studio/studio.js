@@ -121,8 +121,10 @@
     return o;
   }
   const painted = () => state.mask && state.mask.some((v) => v);
+  let shownSurface = null;  // the painted surface on screen: {id, positions, indices}
   function requestBody() {
     const body = { model: model.id, options: requestOptions() };
+    if (shownSurface && shownSurface.model === model.id) body.surface_id = shownSurface.id;
     if (painted()) body.keep_out_mask_values = Array.from(state.mask);
     return body;
   }
@@ -158,6 +160,15 @@
   const BASE = new THREE.Color(0xd8cbb3), HOLE = new THREE.Color(0x2d3440);
   const raycaster = new THREE.Raycaster();
 
+  // Only the colours where the surface on screen has these very arrays (a preview of the same split).
+  function recolour(positions, colourOf) {
+    if (!surface || surface.geometry.getAttribute('position').array !== positions) return false;
+    const colours = surface.geometry.getAttribute('color');
+    for (let v = 0; v < positions.length / 3; ++v) colourOf(v).toArray(colours.array, 3 * v);
+    colours.needsUpdate = true;
+    render();
+    return true;
+  }
   function setSurface(positions, indices, colourOf) {
     if (surface) { scene.remove(surface); surface.geometry.dispose(); }
     const g = new THREE.BufferGeometry();
@@ -419,8 +430,13 @@
   }
   function paintPreview(p) {
     const pattern = new Float32Array(decode(p.surface.pattern));
-    setSurface(new Float32Array(decode(p.surface.positions)), new Uint32Array(decode(p.surface.indices)),
-               (v) => (pattern[v] > 0 ? HOLE : BASE));
+    // The server leaves out the surface the page shows already (the id it was sent): recoloured only.
+    if (p.surface.positions)
+      shownSurface = { id: p.surface.id, model: model.id, positions: new Float32Array(decode(p.surface.positions)),
+                       indices: new Uint32Array(decode(p.surface.indices)) };
+    if (!shownSurface || shownSurface.id !== p.surface.id) return;
+    const colourOf = (v) => (pattern[v] > 0 ? HOLE : BASE);
+    if (!recolour(shownSurface.positions, colourOf)) setSurface(shownSurface.positions, shownSurface.indices, colourOf);
   }
 
   // ---- make ------------------------------------------------------------------------------------------

@@ -56,6 +56,8 @@ RunRequest parse_run_request(std::string_view body, const Models& models) {
   run.model = models.get(id);
   if (!run.model) throw Error(ErrorCode::invalid_input, "no model: upload one first (POST /api/model)");
   read_options(request, run.options, run.mask);
+  if (request.contains("surface_id") && request["surface_id"].is_string())
+    run.surface_id = request["surface_id"].get<std::string>();
   return run;
 }
 

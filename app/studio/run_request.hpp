@@ -22,6 +22,7 @@ struct RunRequest {
   std::shared_ptr<const Model> model;
   poreshell::Options options;
   std::vector<double> mask;  // per vertex of the model's mesh, 0 or 1; empty: none painted
+  std::string surface_id;    // a preview: the painted surface the page shows now ("surface_id"), if any
 };
 
 // Options and the painted mask from a request's "options" object (the mask may also be a sibling of

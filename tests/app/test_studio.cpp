@@ -193,6 +193,18 @@ TEST_F(Studio, PreviewGivesHolesAndCentresAndKeepsOutWhereAsked) {
   ASSERT_EQ(p["centres"].size(), p["holes"].get<std::size_t>());
   EXPECT_GT(p["figures"]["porosity"].get<double>(), 0.0);
   EXPECT_TRUE(p["surface"]["positions"].is_string());
+  // The page names the surface it shows: a preview on the same split sends the pattern alone, one on
+  // another surface the whole of it.
+  json again = json::parse(std::string("{\"model\": ") + std::to_string(id) + ", " + kOptions + "}");
+  again["options"]["seed"] = 7;
+  again["surface_id"] = p["surface"]["id"];
+  const json same = body(client().Post("/api/preview", again.dump(), "application/json"));
+  EXPECT_EQ(same["surface"]["id"], p["surface"]["id"]);
+  EXPECT_FALSE(same["surface"].contains("positions"));
+  EXPECT_TRUE(same["surface"]["pattern"].is_string());
+  again["surface_id"] = "some-other-surface";
+  EXPECT_TRUE(body(client().Post("/api/preview", again.dump(), "application/json"))["surface"]["positions"]
+                  .is_string());
   // Graded along z from 4 to 8 mm: the smallest holes low, the largest high.
   const json graded = body(client().Post(
       "/api/preview",
