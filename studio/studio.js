@@ -444,6 +444,7 @@
   $('make').addEventListener('click', async () => {
     if (!model) return;
     $('files').textContent = '';
+    $('made').hidden = true;
     const res = await api('/api/make', { method: 'POST', body: JSON.stringify(requestBody()), headers: { 'Content-Type': 'application/json' } });
     const body = await res.json();
     if (!res.ok) { showError(body); $('make-status').textContent = body.error; return; }
@@ -471,6 +472,7 @@
     const mean = holes.reduce((a, h) => a + h.diameter, 0) / Math.max(1, holes.length);
     $('make-status').textContent = `done: ${holes.length} holes, mean ${mean.toFixed(2)} mm, wall ${fmt(m.wall && m.wall.measured_median_mm, 'mm', 2)}, ` +
       `${m.closed && m.manifold ? 'closed and manifold' : 'NOT closed'}, ${m.parts.count} part(s), ${fmt(m.volume * 1.24e-3, 'g')} PLA`;
+    showMade(m, holes);
     for (const name of full.files) {
       const li = document.createElement('li'), a = document.createElement('a');
       a.href = `/api/jobs/${job}/files/${name}?token=${token}`;
@@ -480,6 +482,24 @@
       $('files').append(li);
     }
     showResult(await (await api(`/api/jobs/${job}/files/part.stl`)).arrayBuffer(), holes);
+  }
+  // The made part measured as the report has it: the holes on the mesh, its wall, rim, keep-outs and part.
+  function showMade(m, holes) {
+    const mean = (xs) => xs.reduce((a, x) => a + x, 0) / Math.max(1, xs.length);
+    const cv = (xs) => { const u = mean(xs); return Math.sqrt(mean(xs.map((x) => (x - u) * (x - u)))) / (u || 1); };
+    const d = holes.map((h) => h.diameter), s = holes.filter((h) => h.nearest > 0).map((h) => h.nearest);
+    const w = m.wall || {}, a = m.applied || {};
+    $('made-holes').textContent = String(holes.length);
+    $('made-diameter').textContent = `${fmt(mean(d), 'mm', 2)} · CV ${fmt(100 * cv(d), '%')}`;
+    $('made-spacing').textContent = `${fmt(mean(s), 'mm', 2)} · CV ${fmt(100 * cv(s), '%')}`;
+    $('made-porosity').textContent = fmt(100 * m.holes.porosity, '%');
+    $('made-wall').textContent = `${fmt(w.measured_median_mm, 'mm', 2)} (${fmt(w.measured_p5_mm, '', 2)}-${fmt(w.measured_p95_mm, 'mm', 2)})`;
+    $('made-rim').textContent = a.rim_measured_mm === null ? '-' : `${fmt(a.rim_measured_mm, 'mm')} (asked ${fmt(a.rim_requested_mm, 'mm')})`;
+    $('made-clearance').textContent = a.keep_outs ? `${fmt(a.keep_out_clearance_mm, 'mm')}, ${a.holes_in_keep_outs} holes in` : '-';
+    $('made-part').textContent = `${m.closed && m.manifold && m.oriented ? 'closed, manifold' : 'NOT PRINTABLE'}, ${m.parts.count} part(s)`;
+    $('made-triangles').textContent = m.triangles.toLocaleString('en');
+    $('made-mass').textContent = `${fmt(m.volume / 1000, 'cm³', 2)}, ${fmt(m.volume * 1.24e-3, 'g')}`;
+    $('made').hidden = false;
   }
   // The printed part, its holes' rims coloured by the diameter's deviation from the one asked.
   function showResult(stl, holes) {

@@ -140,6 +140,12 @@ try {
     return { closed: m.closed, manifold: m.manifold, parts: m.parts.count, holes: m.hole_table.length, id: window.studio.job.job };
   });
   expect(job.closed && job.manifold && job.parts === 1, `Make: closed ${job.closed}, manifold ${job.manifold}, ${job.parts} part(s), ${job.holes} holes`);
+  // The made part's measured panel: its hole count is the report's, its part printable.
+  await page.waitForFunction(() => !document.getElementById('made').hidden, { timeout: 10000 });
+  const made = await page.evaluate(() => ({ holes: document.getElementById('made-holes').textContent,
+                                             part: document.getElementById('made-part').textContent }));
+  expect(made.holes === String(job.holes) && made.part.startsWith('closed, manifold, 1 part'),
+         `the made panel says ${made.holes} holes, '${made.part}'`);
   const progress = await page.$eval('#progress-bar', (e) => parseFloat(e.style.width));
   expect(progress >= 99.9, `progress bar at ${progress}%`);
   const part = Buffer.from(await page.evaluate(async (id) => {
