@@ -97,14 +97,15 @@ std::int64_t close_oblong_spots(const NarrowBand& band, std::span<double> phi, d
     const Moments& m = spots[l];
     if (!(m.w > 0.0)) continue;
     const Vec3 mean = m.sum / m.w;
-    if (kept && kept(mean)) continue;
     const Eigen::Matrix3d covariance = m.outer / m.w - mean * mean.transpose();
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance, Eigen::EigenvaluesOnly);
     const Vec3 lambda = eigen.eigenvalues();  // ascending: the normal's, the minor axis's, the major's
-    if (lambda[2] > 0.0 && std::sqrt(std::max(lambda[1], 0.0) / lambda[2]) < min_axis_ratio) {
-      oblong[l] = 1;
-      ++closed;
-    }
+    const bool is_oblong =
+        lambda[2] > 0.0 && std::sqrt(std::max(lambda[1], 0.0) / lambda[2]) < min_axis_ratio;
+    // `kept` (a walk over the open boundary) asked of the few oblong spots only, not of every spot.
+    if (!is_oblong || (kept && kept(mean))) continue;
+    oblong[l] = 1;
+    ++closed;
   }
   for (std::size_t v = 0; v < label.size(); ++v)
     if (label[v] >= 0 && oblong[static_cast<std::size_t>(label[v])]) phi[v] = -1.0;
