@@ -194,14 +194,9 @@ PipelineResult run_pipeline(const Input& input, const PreparedInput& prepared, R
   check_run_fits(estimate_run_cost(prepared, false), prepared);
   // The wall: asked for (shell); 2 mm where holes are asked in mm, so that it does not follow the hole
   // map's voxel; else the band's width 2 delta (the paper's parameters, the narrow volume).
-  const bool shell_wall = options.mode == Mode::shell;
-  result.solid.wall_source = shell_wall && options.wall > 0.0 ? "asked"
-                             : shell_wall && result.plan      ? "default"
-                                                              : "band";
-  result.solid.wall_mm = result.solid.wall_source == "asked" ? options.wall
-                         : result.solid.wall_source == "default"
-                             ? kDefaultWallMm
-                             : 2.0 * BandOptions{}.delta_in_h * grid.h() * placed.mm_per_grid();
+  const WallChoice wall = choose_wall(options, result.plan.has_value(), grid.h() * placed.mm_per_grid());
+  result.solid.wall_mm = wall.mm;
+  result.solid.wall_source = wall.source;
   check_reduction(options, result.solid.wall_mm);
   const std::optional<GradeSpec> grade =
       options.grade ? std::optional<GradeSpec>(to_grade_spec(*options.grade)) : std::nullopt;

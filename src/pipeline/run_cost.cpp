@@ -98,6 +98,13 @@ void preview_cost(const PreparedInput& prepared, const Grid& grid, bool count_tr
 
 }  // namespace
 
+WallChoice choose_wall(const Options& options, bool holes_in_mm, double voxel_size_mm) {
+  const bool shell = options.mode == Mode::shell;
+  if (shell && options.wall > 0.0) return {options.wall, "asked"};
+  if (shell && holes_in_mm) return {kDefaultWallMm, "default"};
+  return {2.0 * BandOptions{}.delta_in_h * voxel_size_mm, "band"};
+}
+
 RunCost estimate_run_cost(const PreparedInput& prepared, bool for_printout) {
   const Options& options = prepared.options;
   const PlacedSurface& placed = prepared.placed;
@@ -123,11 +130,8 @@ RunCost estimate_run_cost(const PreparedInput& prepared, bool for_printout) {
   else
     c.seconds = kMeshSecondsFixed + kMeshSecondsPerBandVoxel * band;
   c.seconds += kInputSecondsPerTriangle * input_triangles;
-  // As the pipeline takes it (issue 51): asked, else 2 mm for holes asked in mm, else the band's width.
   const bool shell = options.mode == Mode::shell;
-  const double wall_mm = shell && options.wall > 0.0 ? options.wall
-                         : shell && prepared.plan    ? kDefaultWallMm
-                                                     : 2.0 * BandOptions{}.delta_in_h * c.voxel_size_mm;
+  const double wall_mm = choose_wall(options, prepared.plan.has_value(), c.voxel_size_mm).mm;
   c.shell_mm = shell ? std::min(c.voxel_size_mm, wall_mm / kMinCellsAcrossWall) : c.voxel_size_mm;
   c.triangles = kTrianglesPerShellCell * band * std::pow(c.voxel_size_mm / c.shell_mm, 2);
   if (options.preview) {

@@ -20,6 +20,15 @@ struct RunCost {
   double shell_mm = 0.0;  // the shell grid's spacing (what the wall is meshed at)
 };
 
+// The wall the run builds, in mm, and where it comes from: "asked" (`wall`), "default" (kDefaultWallMm for
+// holes asked in mm, shell mode) or "band" (the band's width 2 delta: the paper's parameters, the narrow
+// volume). One rule for the run and its estimate.
+struct WallChoice {
+  double mm = 0.0;
+  const char* source = "";
+};
+WallChoice choose_wall(const Options& options, bool holes_in_mm, double voxel_size_mm);
+
 // `for_printout`: every figure, a run too small for the coarse count building its own band to count
 // it; else only what the guard reads, a small run's cost left at 0 (small runs fit).
 RunCost estimate_run_cost(const PreparedInput& prepared, bool for_printout);
