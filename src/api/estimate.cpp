@@ -96,10 +96,9 @@ Estimate estimate_prepared(const Input& input, const PreparedInput& prepared) {
   const Box box = placed.surface->bounds();
   for (int a = 0; a < 3; ++a)
     e.size_mm[static_cast<std::size_t>(a)] = (box.max[a] - box.min[a]) * mm_per_grid;
-  const Grid grid = Grid::fitted(placed.domain, placed.resolution);
-  e.grid = grid.dims();
-  e.voxel_size_mm = grid.h() * mm_per_grid;
+  e.grid = Grid::fitted(placed.domain, placed.resolution).dims();
   const RunCost cost = estimate_run_cost(prepared, true);
+  e.voxel_size_mm = cost.voxel_size_mm;
   e.band_voxels = cost.band_voxels;
   e.seconds = cost.seconds;
   e.peak_bytes = cost.peak_bytes;

@@ -39,20 +39,18 @@ double address_space_left_bytes() {
 
 }  // namespace
 
-BandEstimate estimate_band(const Surface& surface, const Box& domain, int resolution) {
+double estimate_band_voxels(const Surface& surface, const Box& domain, int resolution) {
   const int coarse_points = (resolution - 1) / 8 + 1;
-  if (coarse_points < 17) return {};  // a small run: the estimate would be coarser than the run itself
+  if (coarse_points < 17) return 0.0;  // a small run: the estimate would be coarser than the run itself
   const double fine_h = (domain.max - domain.min).maxCoeff() / (resolution - 1);
   const double coarse_h = 8.0 * fine_h;
   Box padded{domain.min - Vec3::Constant(4 * coarse_h), domain.max + Vec3::Constant(4 * coarse_h)};
   const Grid coarse = Grid::fitted(
       padded, static_cast<int>(std::lround((padded.max - padded.min).maxCoeff() / coarse_h)) + 1);
   try {
-    const double voxels =
-        static_cast<double>(build_band(surface, coarse).size()) * std::pow(coarse.h() / fine_h, 2);
-    return {voxels};
+    return static_cast<double>(build_band(surface, coarse).size()) * std::pow(coarse.h() / fine_h, 2);
   } catch (const std::exception&) {
-    return {};  // no estimate on this grid: the run itself will say what is wrong
+    return 0.0;  // no estimate on this grid: the run itself will say what is wrong
   }
 }
 

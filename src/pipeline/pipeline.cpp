@@ -58,10 +58,6 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-bool holes_in_mm(const Options& o) {
-  return o.hole_diameter > 0.0 || o.spacing > 0.0 || o.porosity > 0.0;
-}
-
 // Hole statistics at one level in millimetres. The holes' Voronoi cells cover the free surface only: a
 // hole beside a solid zone (a rim, an ear) would otherwise own the zone's area too.
 HoleStats hole_stats_mm(const NarrowBand& band, std::span<const double> phi, double level,

@@ -120,14 +120,19 @@ using detail::PreparedInput;
 // Validates the options and places the input. Throws as run_pipeline would.
 PreparedInput prepare_input(const Input& input, const Options& options);
 
+// Whether holes are asked in mm (the hole map's route) rather than by the paper's parameters.
+inline bool holes_in_mm(const Options& o) {
+  return o.hole_diameter > 0.0 || o.spacing > 0.0 || o.porosity > 0.0;
+}
+
 // Whether the run builds only the band's surface layer (BandOptions::surface_layer): a preview that
 // shows the input mesh itself and solves nothing (the even layout's discs as placed). A layer has no
 // ghosts and -1 for its outer neighbours, so a preview that runs the equation (the paper's layout)
 // needs the whole band (issue 47: solving on the layer wrote past its arrays). A preview of other
 // inputs meshes its slab from the whole band.
 inline bool builds_surface_layer(const Options& options, const PlacedSurface& placed) {
-  const bool holes_in_mm = options.hole_diameter > 0.0 || options.spacing > 0.0 || options.porosity > 0.0;
-  return options.preview && placed.mesh.has_value() && resolve_layout(options, holes_in_mm) == Layout::cvt;
+  return options.preview && placed.mesh.has_value() &&
+         resolve_layout(options, holes_in_mm(options)) == Layout::cvt;
 }
 
 // Validates the options against the input, runs every stage and checks every mesh; writes nothing.

@@ -68,10 +68,6 @@ constexpr double kSolvedPreviewSecondsFixed = 0.8, kSolvedPreviewSecondsPerVoxel
 constexpr double kLayerSecondsFixed = 0.11, kLayerSecondsPerVoxel = 8.9e-6;
 constexpr double kLayerPeakFixedBytes = 26.0 * 1024 * 1024, kLayerPeakBytesPerVoxel = 240.0;
 
-bool asks_holes_in_mm(const Options& o) {
-  return o.hole_diameter > 0.0 || o.spacing > 0.0 || o.porosity > 0.0;
-}
-
 // The preview's figures in place of the shell's.
 void preview_cost(const PreparedInput& prepared, const Grid& grid, bool count_triangles, RunCost& c) {
   const Options& options = prepared.options;
@@ -98,10 +94,10 @@ void preview_cost(const PreparedInput& prepared, const Grid& grid, bool count_tr
 
 }  // namespace
 
-WallChoice choose_wall(const Options& options, bool holes_in_mm, double voxel_size_mm) {
+WallChoice choose_wall(const Options& options, bool asked_in_mm, double voxel_size_mm) {
   const bool shell = options.mode == Mode::shell;
   if (shell && options.wall > 0.0) return {options.wall, "asked"};
-  if (shell && holes_in_mm) return {kDefaultWallMm, "default"};
+  if (shell && asked_in_mm) return {kDefaultWallMm, "default"};
   return {2.0 * BandOptions{}.delta_in_h * voxel_size_mm, "band"};
 }
 
@@ -111,7 +107,7 @@ RunCost estimate_run_cost(const PreparedInput& prepared, bool for_printout) {
   const Grid grid = Grid::fitted(placed.domain, placed.resolution);
   RunCost c;
   c.voxel_size_mm = grid.h() * placed.mm_per_grid();
-  c.band_voxels = estimate_band(*placed.surface, placed.domain, placed.resolution).voxels;
+  c.band_voxels = estimate_band_voxels(*placed.surface, placed.domain, placed.resolution);
   if (c.band_voxels == 0.0) {
     if (!for_printout) return c;
     c.band_voxels = static_cast<double>(build_band(*placed.surface, grid).size());
@@ -171,7 +167,7 @@ void check_run_fits(const RunCost& cost, const PreparedInput& prepared) {
         "the program and the input alone need about {:.0f} MiB; simplify the input or "
         "free memory",
         cost.fixed_bytes / kMiB);
-  else if (!asks_holes_in_mm(prepared.given))
+  else if (!holes_in_mm(prepared.given))
     message += fmt::format("use `resolution` {} or less, or `voxel_size` {:.3g} mm or more",
                            static_cast<int>(1 + (prepared.placed.resolution - 1) * shrink),
                            cost.voxel_size_mm / shrink * 1.01);

@@ -27,7 +27,7 @@ struct WallChoice {
   double mm = 0.0;
   const char* source = "";
 };
-WallChoice choose_wall(const Options& options, bool holes_in_mm, double voxel_size_mm);
+WallChoice choose_wall(const Options& options, bool asked_in_mm, double voxel_size_mm);
 
 // `for_printout`: every figure, a run too small for the coarse count building its own band to count
 // it; else only what the guard reads, a small run's cost left at 0 (small runs fit).
