@@ -14,14 +14,13 @@ std::string yes_no(bool b, const char* yes, const char* no) {
 
 // Why some of the band's spots have no hole in the hole table (issue 51), when any have none.
 std::string spots_without_pore(const poreshell::LevelReport& m) {
-  const std::int64_t other = m.hole_table_dropped - m.spots_at_open_edge - m.spots_not_through;
   std::string parts;
   const auto add = [&](std::int64_t n, const char* what) {
     if (n > 0) parts += fmt::format("{}{} {}", parts.empty() ? "" : ", ", n, what);
   };
   add(m.spots_at_open_edge, "at the open edge (notches)");
   add(m.spots_not_through, "elsewhere (not cut through, or not measurable)");
-  add(other, "inside another's hole");
+  add(m.spots_in_another_hole, "inside another's hole");
   return parts.empty() ? std::string() : " (spots with no measured hole: " + parts + ")";
 }
 

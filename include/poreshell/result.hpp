@@ -81,9 +81,9 @@ struct LevelReport {
   std::int64_t pores_from_euler = 0;
   std::int64_t hole_table_dropped = 0;  // band spots that are no pore of the mesh (notches at an open edge)
   // Of those, the spots around which no closed hole was measured: at the open boundary (notches), or
-  // elsewhere (not cut through the wall, or a loop the measure missed); the rest of hole_table_dropped
-  // are spots another one's hole took in.
-  std::int64_t spots_at_open_edge = 0, spots_not_through = 0;
+  // elsewhere (not cut through the wall, or a loop the measure missed); and the rest of
+  // hole_table_dropped, spots another one's hole took in.
+  std::int64_t spots_at_open_edge = 0, spots_not_through = 0, spots_in_another_hole = 0;
   // What the solid zones asked for, measured on this output's holes (mm; NaN where it does not apply):
   // the least distance from a hole's edge to the open boundary (the rim left), and to a keep-out
   // (negative: a hole reaches in; holes_in_keep_outs counts those).

@@ -42,7 +42,7 @@ json level_json(const LevelReport& m, const Report& r) {
           {"spots_without_pore",
            {{"at_open_edge", m.spots_at_open_edge},
             {"elsewhere", m.spots_not_through},
-            {"in_another_hole", m.hole_table_dropped - m.spots_at_open_edge - m.spots_not_through}}},
+            {"in_another_hole", m.spots_in_another_hole}}},
           {"applied",
            {{"rim_requested_mm", m.zones.rim_asked},
             {"rim_measured_mm", number_or_null(m.zones.rim)},

@@ -37,6 +37,7 @@ LevelReport level_report(const MeshOutput& m) {
   l.hole_table_dropped = static_cast<std::int64_t>(m.hole_table.dropped);
   l.spots_at_open_edge = m.spots_at_open_edge;
   l.spots_not_through = static_cast<std::int64_t>(m.hole_table.uncut.size()) - m.spots_at_open_edge;
+  l.spots_in_another_hole = l.hole_table_dropped - static_cast<std::int64_t>(m.hole_table.uncut.size());
   l.zones.rim_asked = m.zones.rim_asked;
   l.zones.rim = m.zones.rim;
   l.zones.keep_out_clearance = m.zones.keep_out_clearance;
