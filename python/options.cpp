@@ -169,18 +169,8 @@ nlohmann::json to_json(const poreshell::OptionInfo& info, py::handle value) {
       return to_rows(name, value, 4);
     case OptionType::boxes:
       return to_rows(name, value, 6);
-    case OptionType::grade: {
-      const poreshell::Grade g = to_grade(value);
-      return {{"kind", std::string(poreshell::name_of(g.kind))},
-              {"axis", g.axis},
-              {"from", g.from},
-              {"to", g.to},
-              {"from_diameter", g.from_diameter},
-              {"to_diameter", g.to_diameter},
-              {"radius", g.radius},
-              {"field", g.field},
-              {"mapped", g.mapped}};
-    }
+    case OptionType::grade:  // set as a Grade by to_options, not through JSON
+      break;
   }
   return nullptr;
 }
@@ -189,14 +179,25 @@ nlohmann::json to_json(const poreshell::OptionInfo& info, py::handle value) {
 
 poreshell::Options to_options(const py::dict& kwargs, const std::string& caller) {
   // Each keyword by the option table, the whole read and validated as every front end's options are.
+  // The grading, which Python may give as a spec string or a dict with axes as letters, becomes a Grade
+  // here and is set after: the table's JSON of it would be a second writer of the report's object.
   nlohmann::json settings = nlohmann::json::object();
+  std::optional<poreshell::Grade> grade;
   for (const auto& [key_handle, value] : kwargs) {
     const std::string key = py::str(key_handle);
     const poreshell::OptionInfo* info = poreshell::find_option(key);
     if (!info) throw py::type_error(caller + "() got an unexpected keyword argument '" + key + "'");
-    if (!value.is_none()) settings[key] = to_json(*info, value);
+    if (value.is_none()) continue;
+    if (info->type == poreshell::OptionType::grade)
+      grade = to_grade(value);
+    else
+      settings[key] = to_json(*info, value);
   }
   poreshell::Options options = poreshell::options_from_json(settings.dump());
+  if (grade) {
+    options.grade = std::move(grade);
+    poreshell::validate(options);
+  }
   // As the CLI: with holes asked in mm, the hole map chooses the model, which may then not be given
   // (Options cannot tell a default from a value given).
   for (const char* hole : {"hole_diameter", "spacing", "porosity"}) {
