@@ -21,10 +21,8 @@ std::string model_extension(std::string_view name) {
 }
 
 poreshell::Unit parse_unit(std::string_view text) {
-  if (text.empty() || text == "mm") return poreshell::Unit::mm;
-  if (text == "m") return poreshell::Unit::m;
-  if (text == "cm") return poreshell::Unit::cm;
-  if (text == "inch") return poreshell::Unit::inch;
+  if (text.empty()) return poreshell::Unit::mm;
+  if (const std::optional<poreshell::Unit> unit = poreshell::unit_from_name(text)) return *unit;
   throw std::invalid_argument("units '" + std::string(text) + "' is not one of m, cm, mm, inch");
 }
 

@@ -5,7 +5,9 @@
 #include <array>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <variant>
 #include <vector>
 #include "poreshell/export.hpp"
@@ -63,5 +65,7 @@ inline ShapeInput torus(double major_radius_mm = 0.0) {
 // Millimetres per unit, and the unit's name ("m", "cm", "mm", "inch").
 PORESHELL_API double millimetres_per(Unit unit);
 PORESHELL_API const char* to_string(Unit unit);
+// The unit whose name to_string() gives, or none.
+PORESHELL_API std::optional<Unit> unit_from_name(std::string_view name);
 
 }  // namespace poreshell

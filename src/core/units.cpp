@@ -49,4 +49,10 @@ const char* to_string(Unit unit) {
   return "mm";
 }
 
+std::optional<Unit> unit_from_name(std::string_view name) {
+  for (const Unit unit : {Unit::m, Unit::cm, Unit::mm, Unit::inch})
+    if (name == to_string(unit)) return unit;
+  return std::nullopt;
+}
+
 }  // namespace poreshell
