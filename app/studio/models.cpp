@@ -26,25 +26,42 @@ poreshell::Unit parse_unit(std::string_view text) {
   throw std::invalid_argument("units '" + std::string(text) + "' is not one of m, cm, mm, inch");
 }
 
-poreshell::Input read_model(const fs::path& path, poreshell::Unit unit, const std::string& name) {
-  const std::string ext = path.extension().string();
-  if (ext == ".xyz" || ext == ".txt" || ext == ".pts") {
-    poreshell::PointsInput points = poreshell::load_points(path, unit);
+namespace {
+
+// A mesh, or points for .xyz/.txt/.pts and a face-less .ply, by the loaders given (from a file or from
+// bytes), named `name`.
+template <class LoadMesh, class LoadPoints>
+poreshell::Input read_model_by(const std::string& ext, const std::string& name, LoadMesh load_mesh,
+                               LoadPoints load_points) {
+  const auto as_points = [&] {
+    poreshell::PointsInput points = load_points();
     points.name = name;
-    return points;
-  }
+    return poreshell::Input(std::move(points));
+  };
+  if (ext == ".xyz" || ext == ".txt" || ext == ".pts") return as_points();
   poreshell::MeshInput mesh;
   try {
-    mesh = poreshell::load_mesh(path, unit);
+    mesh = load_mesh();
   } catch (const poreshell::Error&) {
     if (ext != ".ply") throw;
-    // A PLY of vertices alone is a point cloud.
-    poreshell::PointsInput points = poreshell::load_points(path, unit);
-    points.name = name;
-    return points;
+    return as_points();  // a PLY of vertices alone is a point cloud
   }
   mesh.name = name;
   return mesh;
+}
+
+}  // namespace
+
+poreshell::Input read_model(const fs::path& path, poreshell::Unit unit, const std::string& name) {
+  return read_model_by(
+      path.extension().string(), name, [&] { return poreshell::load_mesh(path, unit); },
+      [&] { return poreshell::load_points(path, unit); });
+}
+
+poreshell::Input read_model_bytes(std::string_view bytes, const std::string& name, poreshell::Unit unit) {
+  return read_model_by(
+      model_extension(name), name, [&] { return poreshell::load_mesh_bytes(bytes, name, unit); },
+      [&] { return poreshell::load_points_bytes(bytes, name, unit); });
 }
 
 fs::path Models::new_path(const std::string& extension) {

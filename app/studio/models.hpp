@@ -30,6 +30,8 @@ poreshell::Unit parse_unit(std::string_view text);
 
 // Reads a model file (mesh, or points for .xyz/.txt/.pts and a face-less .ply). Throws poreshell::Error.
 poreshell::Input read_model(const std::filesystem::path& path, poreshell::Unit unit, const std::string& name);
+// The same from a file's bytes (a project's embedded model); `name`'s extension picks the format.
+poreshell::Input read_model_bytes(std::string_view bytes, const std::string& name, poreshell::Unit unit);
 
 class Models {
  public:

@@ -1,10 +1,7 @@
 #include "project.hpp"
 
-#include <unistd.h>
-
 #include <fstream>
 #include <sstream>
-#include <system_error>
 
 #include <nlohmann/json.hpp>
 
@@ -17,32 +14,6 @@ namespace studio {
 namespace fs = std::filesystem;
 using poreshell::Error;
 using poreshell::ErrorCode;
-
-namespace {
-
-// An embedded model goes through the same readers as a file: into a temporary file, read, removed.
-poreshell::Input read_embedded(const std::string& bytes, const std::string& name, poreshell::Unit unit) {
-  static int count = 0;
-  const fs::path path = fs::temp_directory_path() / ("poreshell-project-" + std::to_string(::getpid()) + "-" +
-                                                     std::to_string(++count) + model_extension(name));
-  {
-    std::ofstream out(path, std::ios::binary);
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    if (!out)
-      throw Error(ErrorCode::io, "cannot write a temporary file for the project's model: " + path.string());
-  }
-  try {
-    poreshell::Input input = read_model(path, unit, name);
-    fs::remove(path);
-    return input;
-  } catch (...) {
-    std::error_code ignored;
-    fs::remove(path, ignored);
-    throw;
-  }
-}
-
-}  // namespace
 
 Project load_project(const fs::path& file) {
   std::ifstream in(file, std::ios::binary);
@@ -67,7 +38,7 @@ Project load_project(const fs::path& file) {
   if (model.contains("data") && model["data"].is_string()) {
     const auto bytes = base64_decode(model["data"].get<std::string>());
     if (!bytes) throw Error(ErrorCode::invalid_input, "the project's embedded model is not base64");
-    out.input = read_embedded(*bytes, name, unit);
+    out.input = read_model_bytes(*bytes, name, unit);
   } else if (model.contains("path") && model["path"].is_string()) {
     fs::path path = model["path"].get<std::string>();
     if (path.is_relative()) path = file.parent_path() / path;

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "poreshell/export.hpp"
@@ -26,6 +27,12 @@ PORESHELL_API MeshInput load_mesh(const std::filesystem::path& path, Unit unit =
                                   const std::vector<std::string>& fields = {});
 // A point cloud: XYZ text (.xyz, .txt, .pts) or PLY vertices (faces, if any, become patches).
 PORESHELL_API PointsInput load_points(const std::filesystem::path& path, Unit unit = Unit::mm);
+// The same from a file's bytes in memory (an upload, a project's embedded model): `name`'s extension picks
+// the format and names the input. No vertex fields.
+PORESHELL_API MeshInput load_mesh_bytes(std::string_view bytes, const std::string& name,
+                                        Unit unit = Unit::mm);
+PORESHELL_API PointsInput load_points_bytes(std::string_view bytes, const std::string& name,
+                                            Unit unit = Unit::mm);
 
 // A mesh in mm: .stl (binary), .3mf, .obj or .ply (binary) by extension.
 PORESHELL_API void save_mesh(const std::filesystem::path& path, const Mesh& mesh);

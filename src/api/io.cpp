@@ -25,18 +25,32 @@ std::vector<Point> to_points(const std::vector<Vec3>& vertices) {
   return points;
 }
 
-}  // namespace
-
-MeshInput load_mesh(const std::filesystem::path& path, Unit unit, const std::vector<std::string>& fields) {
+MeshInput to_mesh_input(const TriangleMesh& mesh, const MeshInputStats& stats, Unit unit, std::string name) {
   MeshInput input;
-  MeshInputStats stats;
-  TriangleMesh mesh = read_triangle_mesh(path, &stats);
   input.dropped_degenerate = stats.dropped_degenerate;
   input.dropped_duplicate = stats.dropped_duplicate;
   input.mesh.vertices = to_points(mesh.vertices);
   input.mesh.triangles.assign(mesh.triangles.begin(), mesh.triangles.end());
   input.unit = unit;
-  input.name = path.string();
+  input.name = std::move(name);
+  return input;
+}
+
+PointsInput to_points_input(const PointCloud& cloud, Unit unit, std::string name) {
+  PointsInput input;
+  input.points = to_points(cloud.points);
+  input.patches.assign(cloud.triangles.begin(), cloud.triangles.end());
+  input.unit = unit;
+  input.name = std::move(name);
+  return input;
+}
+
+}  // namespace
+
+MeshInput load_mesh(const std::filesystem::path& path, Unit unit, const std::vector<std::string>& fields) {
+  MeshInputStats stats;
+  const TriangleMesh mesh = read_triangle_mesh(path, &stats);
+  MeshInput input = to_mesh_input(mesh, stats, unit, path.string());
   // The file's vertices were welded and renumbered: each field's value is taken at the vertex's
   // position on the file's own faces, which is the value the file gives that vertex.
   for (const std::string& name : fields) {
@@ -49,13 +63,17 @@ MeshInput load_mesh(const std::filesystem::path& path, Unit unit, const std::vec
 }
 
 PointsInput load_points(const std::filesystem::path& path, Unit unit) {
-  PointCloud cloud = read_point_cloud(path);
-  PointsInput input;
-  input.points = to_points(cloud.points);
-  input.patches.assign(cloud.triangles.begin(), cloud.triangles.end());
-  input.unit = unit;
-  input.name = path.string();
-  return input;
+  return to_points_input(read_point_cloud(path), unit, path.string());
+}
+
+MeshInput load_mesh_bytes(std::string_view bytes, const std::string& name, Unit unit) {
+  MeshInputStats stats;
+  const TriangleMesh mesh = read_triangle_mesh_bytes(bytes, lowercase_extension(name), name, &stats);
+  return to_mesh_input(mesh, stats, unit, name);
+}
+
+PointsInput load_points_bytes(std::string_view bytes, const std::string& name, Unit unit) {
+  return to_points_input(read_point_cloud_bytes(bytes, lowercase_extension(name), name), unit, name);
 }
 
 void save_mesh(const std::filesystem::path& path, const Mesh& mesh) {

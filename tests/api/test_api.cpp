@@ -82,6 +82,28 @@ TEST(Api, MeshInMemoryGivesTheBytesOfTheSameMeshReadFromAFile) {
   EXPECT_GT(memory.report.outputs.at(0).pores_from_euler, 10);
 }
 
+// A file's bytes in memory read as the file does (an upload, a project's embedded model), its format by
+// the name's extension, and refused alike when malformed.
+TEST(Api, MeshFromBytesIsTheMeshFromTheFile) {
+  const TempDir dir;
+  {
+    std::ofstream obj(dir / "sphere.obj");
+    obj.precision(17);
+    const Mesh m = uv_sphere(40.0, 12, 24);
+    for (const Point& v : m.vertices) obj << "v " << v[0] << ' ' << v[1] << ' ' << v[2] << '\n';
+    for (const Triangle& t : m.triangles)
+      obj << "f " << t[0] + 1 << ' ' << t[1] + 1 << ' ' << t[2] + 1 << '\n';
+  }
+  const MeshInput file = load_mesh(dir / "sphere.obj", Unit::cm);
+  const MeshInput bytes = load_mesh_bytes(bytes_of(dir / "sphere.obj"), "Sphere.OBJ", Unit::cm);
+  EXPECT_EQ(bytes.mesh.vertices, file.mesh.vertices);
+  EXPECT_EQ(bytes.mesh.triangles, file.mesh.triangles);
+  EXPECT_EQ(bytes.unit, Unit::cm);
+  EXPECT_EQ(bytes.name, "Sphere.OBJ");
+  EXPECT_EQ(load_points_bytes("0 0 0\n1 0 0\n0 1 0\n", "p.xyz").points.size(), 3u);
+  EXPECT_THROW(load_mesh_bytes("v 0 0 0\nf 1 2\n", "bad.obj"), Error);
+}
+
 // Cancelling from the progress callback stops the run at that stage: the exception reaches the caller
 // and no later stage starts. With the flag, the run ends with Error(cancelled).
 TEST(Api, CancelsAtEveryStage) {
