@@ -23,6 +23,7 @@
 #include <utility>
 
 #include "band/band.hpp"
+#include "core/cell_hash.hpp"
 #include "geometry/point_tree.hpp"
 
 namespace poreshell {
@@ -163,50 +164,25 @@ class CutSurface {
   std::array<std::array<std::pair<double, double>, 4>, kRings + 1> sector_{};
 };
 
-// Seeds registered in every cell their reach's box meets.
-class SeedCells {
- public:
-  explicit SeedCells(std::span<const CutSurface> cuts) {
-    double reach = 0.0;
-    for (const CutSurface& c : cuts) reach = std::max(reach, c.seed().reach);
-    cell_ = reach > 0.0 ? reach : 1.0;
-    for (std::size_t s = 0; s < cuts.size(); ++s) {
-      const double r = cuts[s].seed().reach;
-      if (!(r > 0.0)) continue;
-      const Vec3 lo = cuts[s].seed().point - Vec3::Constant(r), hi = cuts[s].seed().point + Vec3::Constant(r);
-      for (std::int64_t i = cell_of(lo.x()); i <= cell_of(hi.x()); ++i)
-        for (std::int64_t j = cell_of(lo.y()); j <= cell_of(hi.y()); ++j)
-          for (std::int64_t k = cell_of(lo.z()); k <= cell_of(hi.z()); ++k)
-            entries_.push_back({key(i, j, k), static_cast<std::uint32_t>(s)});
-    }
-    std::sort(entries_.begin(), entries_.end());
+// Seeds registered in every cell their reach's box meets, cells as large as the largest reach.
+CellHash seed_cells(std::span<const CutSurface> cuts) {
+  double reach = 0.0;
+  for (const CutSurface& c : cuts) reach = std::max(reach, c.seed().reach);
+  CellHash cells(reach > 0.0 ? reach : 1.0);
+  for (std::size_t s = 0; s < cuts.size(); ++s) {
+    const double r = cuts[s].seed().reach;
+    if (!(r > 0.0)) continue;
+    cells.add_box(cuts[s].seed().point - Vec3::Constant(r), cuts[s].seed().point + Vec3::Constant(r),
+                  static_cast<std::uint32_t>(s));
   }
-
-  std::int64_t cell_of(double x) const { return static_cast<std::int64_t>(std::floor(x / cell_)); }
-  static std::int64_t key(std::int64_t i, std::int64_t j, std::int64_t k) {
-    return ((i & 0x1FFFFF) << 42) | ((j & 0x1FFFFF) << 21) | (k & 0x1FFFFF);  // wraps: only more seeds
-  }
-  template <class F>
-  void for_seeds_in(std::int64_t i, std::int64_t j, std::int64_t k, const F& f) const {
-    const std::int64_t kk = key(i, j, k);
-    auto it = std::lower_bound(entries_.begin(), entries_.end(), Entry{kk, 0});
-    for (; it != entries_.end() && it->cell == kk; ++it) f(it->seed);
-  }
-
- private:
-  struct Entry {
-    std::int64_t cell;
-    std::uint32_t seed;
-    bool operator<(const Entry& o) const { return cell != o.cell ? cell < o.cell : seed < o.seed; }
-  };
-  double cell_ = 1.0;
-  std::vector<Entry> entries_;
-};
+  cells.seal();
+  return cells;
+}
 
 // Per seed, the triangles that cross its cut and whose boxes meet its reach, in index order.
 std::vector<std::vector<std::uint32_t>> crossing_triangles(const TriangleMesh& mesh,
                                                            std::span<const CutSurface> cuts) {
-  const SeedCells cells(cuts);
+  const CellHash cells = seed_cells(cuts);
   tbb::enumerable_thread_specific<std::vector<std::uint64_t>> found;  // seed << 32 | triangle
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mesh.triangles.size(), 4096),
                     [&](const tbb::blocked_range<std::size_t>& range) {
@@ -236,7 +212,7 @@ std::vector<std::vector<std::uint32_t>> crossing_triangles(const TriangleMesh& m
                         }
                         for (std::int64_t i = i0; i <= i1; ++i)
                           for (std::int64_t j = j0; j <= j1; ++j)
-                            for (std::int64_t k = k0; k <= k1; ++k) cells.for_seeds_in(i, j, k, test);
+                            for (std::int64_t k = k0; k <= k1; ++k) cells.for_each_in(i, j, k, test);
                       }
                     });
   std::vector<std::uint64_t> pairs;

@@ -19,6 +19,8 @@
 #include <limits>
 #include <vector>
 
+#include "core/cell_hash.hpp"
+
 namespace poreshell {
 namespace {
 
@@ -47,46 +49,21 @@ double hit_distance(const Ray& ray, const Vec3& a, const Vec3& b, const Vec3& c,
   return t >= 0.0 && t <= max_length ? t : kNoHit;
 }
 
-class RayCells {
- public:
-  RayCells(const std::vector<Ray>& rays, double max_length) : cell_(max_length / 8.0) {
-    // Points along each segment at half a cell apart, with their neighbour cells: every cell the
-    // segment passes is marked (a superset is harmless).
-    const int steps = 17;
-    for (std::size_t r = 0; r < rays.size(); ++r)
-      for (int s = 0; s < steps; ++s) {
-        const Vec3 p = rays[r].origin + (max_length * s / (steps - 1)) * rays[r].direction;
-        const std::int64_t i = cell_of(p.x()), j = cell_of(p.y()), k = cell_of(p.z());
-        for (int d = 0; d < 27; ++d)
-          entries_.push_back(
-              {key(i + d % 3 - 1, j + (d / 3) % 3 - 1, k + d / 9 - 1), static_cast<std::uint32_t>(r)});
-      }
-    std::sort(entries_.begin(), entries_.end());
-    entries_.erase(std::unique(entries_.begin(), entries_.end()), entries_.end());
-  }
-
-  std::int64_t cell_of(double x) const { return static_cast<std::int64_t>(std::floor(x / cell_)); }
-  static std::int64_t key(std::int64_t i, std::int64_t j, std::int64_t k) {
-    return ((i & 0x1FFFFF) << 42) | ((j & 0x1FFFFF) << 21) | (k & 0x1FFFFF);  // wraps: only more rays
-  }
-  // Rays registered in cell (i, j, k), as a range of entries.
-  template <class F>
-  void for_rays_in(std::int64_t i, std::int64_t j, std::int64_t k, const F& f) const {
-    const std::int64_t kk = key(i, j, k);
-    auto it = std::lower_bound(entries_.begin(), entries_.end(), Entry{kk, 0});
-    for (; it != entries_.end() && it->cell == kk; ++it) f(it->ray);
-  }
-
- private:
-  struct Entry {
-    std::int64_t cell;
-    std::uint32_t ray;
-    bool operator<(const Entry& o) const { return cell != o.cell ? cell < o.cell : ray < o.ray; }
-    bool operator==(const Entry& o) const { return cell == o.cell && ray == o.ray; }
-  };
-  double cell_;
-  std::vector<Entry> entries_;
-};
+// Rays registered along their segments in cells of an eighth of their length: at points half a cell
+// apart, with their neighbour cells, so every cell a segment passes is marked (a superset is harmless).
+CellHash ray_cells(const std::vector<Ray>& rays, double max_length) {
+  CellHash cells(max_length / 8.0);
+  const int steps = 17;
+  for (std::size_t r = 0; r < rays.size(); ++r)
+    for (int s = 0; s < steps; ++s) {
+      const Vec3 p = rays[r].origin + (max_length * s / (steps - 1)) * rays[r].direction;
+      const std::int64_t i = cells.cell_of(p.x()), j = cells.cell_of(p.y()), k = cells.cell_of(p.z());
+      for (int d = 0; d < 27; ++d)
+        cells.add(i + d % 3 - 1, j + (d / 3) % 3 - 1, k + d / 9 - 1, static_cast<std::uint32_t>(r));
+    }
+  cells.seal();
+  return cells;
+}
 
 }  // namespace
 
@@ -99,7 +76,7 @@ WallMeasurement measure_wall(const TriangleMesh& solid, std::span<const WallProb
     rays.push_back({p.start, p.normal});
     rays.push_back({p.start, -p.normal});
   }
-  const RayCells cells(rays, max_length);
+  const CellHash cells = ray_cells(rays, max_length);
 
   // Nearest hit per ray: a minimum, so the result does not depend on how the triangles are split.
   using Hits = std::vector<double>;
@@ -124,7 +101,7 @@ WallMeasurement measure_wall(const TriangleMesh& solid, std::span<const WallProb
           }
           for (std::int64_t i = i0; i <= i1; ++i)
             for (std::int64_t j = j0; j <= j1; ++j)
-              for (std::int64_t k = k0; k <= k1; ++k) cells.for_rays_in(i, j, k, test);
+              for (std::int64_t k = k0; k <= k1; ++k) cells.for_each_in(i, j, k, test);
         }
         return hits;
       },

@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>  // cross()
 #include <memory>
 
+#include "core/cell_hash.hpp"
 #include "geometry/point_tree.hpp"
 #include "input/features.hpp"
 #include "input/point_cloud.hpp"
@@ -14,47 +15,31 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-#include <unordered_map>
 
 namespace poreshell {
 namespace {
 
-// Segments bucketed by the cells of size `cell` that their boxes, grown by `cell`, overlap: every
-// segment within `cell` of a point is in the point's own bucket.
+// Segments registered in the cells of size `cell` that their boxes, grown by `cell`, overlap: every
+// segment within `cell` of a point is listed in the point's own cell.
 class SegmentBuckets {
  public:
-  SegmentBuckets(std::span<const Segment> segments, double cell) : segments_(segments), cell_(cell) {
-    for (std::size_t i = 0; i < segments.size(); ++i) {
-      const Vec3 lo = segments[i][0].cwiseMin(segments[i][1]) - Vec3::Constant(cell);
-      const Vec3 hi = segments[i][0].cwiseMax(segments[i][1]) + Vec3::Constant(cell);
-      const std::array<long long, 3> a = index(lo), b = index(hi);
-      for (long long k = a[2]; k <= b[2]; ++k)
-        for (long long j = a[1]; j <= b[1]; ++j)
-          for (long long c = a[0]; c <= b[0]; ++c) buckets_[key({c, j, k})].push_back(i);
-    }
+  SegmentBuckets(std::span<const Segment> segments, double cell) : segments_(segments), cells_(cell) {
+    for (std::size_t i = 0; i < segments.size(); ++i)
+      cells_.add_box(segments[i][0].cwiseMin(segments[i][1]) - Vec3::Constant(cell),
+                     segments[i][0].cwiseMax(segments[i][1]) + Vec3::Constant(cell),
+                     static_cast<std::uint32_t>(i));
+    cells_.seal();
   }
 
   double distance(const Vec3& p, double beyond) const {
-    const auto it = buckets_.find(key(index(p)));
     double best = beyond;
-    if (it != buckets_.end())
-      for (std::size_t i : it->second) best = std::min(best, segment_distance(p, segments_[i]));
+    cells_.for_each_at(p, [&](std::uint32_t i) { best = std::min(best, segment_distance(p, segments_[i])); });
     return best;
   }
 
  private:
-  std::array<long long, 3> index(const Vec3& p) const {
-    return {static_cast<long long>(std::floor(p.x() / cell_)),
-            static_cast<long long>(std::floor(p.y() / cell_)),
-            static_cast<long long>(std::floor(p.z() / cell_))};
-  }
-  static long long key(const std::array<long long, 3>& c) {
-    return (c[0] & 0x1FFFFF) | ((c[1] & 0x1FFFFF) << 21) | ((c[2] & 0x1FFFFF) << 42);
-  }
-
   std::span<const Segment> segments_;
-  double cell_;
-  std::unordered_map<long long, std::vector<std::size_t>> buckets_;
+  CellHash cells_;
 };
 
 }  // namespace

@@ -15,7 +15,7 @@ constexpr std::uint64_t edge_key(std::int32_t a, std::int32_t b) {
 
 }  // namespace
 
-TrimLine::TrimLine(const TriangleMesh& mesh, double reach) : reach_(reach) {
+TrimLine::TrimLine(const TriangleMesh& mesh, double reach) : reach_(reach), cells_(reach) {
   // Each edge's triangle count and the triangle's third vertex (of the last triangle seen).
   struct Use {
     int count = 0;
@@ -72,33 +72,19 @@ TrimLine::TrimLine(const TriangleMesh& mesh, double reach) : reach_(reach) {
   if (!(reach_ > 0.0)) return;
   for (std::size_t i = 0; i < edges_.size(); ++i) {
     const TrimEdge& e = edges_[i];
-    const std::array<long long, 3> lo = cell_of(e.a.cwiseMin(e.b) - Vec3::Constant(reach_)),
-                                   hi = cell_of(e.a.cwiseMax(e.b) + Vec3::Constant(reach_));
-    for (long long k = lo[2]; k <= hi[2]; ++k)
-      for (long long j = lo[1]; j <= hi[1]; ++j)
-        for (long long c = lo[0]; c <= hi[0]; ++c)
-          buckets_[key({c, j, k})].push_back(static_cast<std::uint32_t>(i));
+    cells_.add_box(e.a.cwiseMin(e.b) - Vec3::Constant(reach_), e.a.cwiseMax(e.b) + Vec3::Constant(reach_),
+                   static_cast<std::uint32_t>(i));
   }
-}
-
-std::array<long long, 3> TrimLine::cell_of(const Vec3& p) const {
-  return {static_cast<long long>(std::floor(p.x() / reach_)),
-          static_cast<long long>(std::floor(p.y() / reach_)),
-          static_cast<long long>(std::floor(p.z() / reach_))};
-}
-
-long long TrimLine::key(const std::array<long long, 3>& c) {
-  return (c[0] & 0x1FFFFF) | ((c[1] & 0x1FFFFF) << 21) | ((c[2] & 0x1FFFFF) << 42);
+  cells_.seal();
 }
 
 std::optional<double> TrimLine::beyond(const Vec3& x) const {
-  if (edges_.empty()) return std::nullopt;
-  const auto it = buckets_.find(key(cell_of(x)));
-  if (it == buckets_.end()) return std::nullopt;
+  if (edges_.empty() || !(reach_ > 0.0)) return std::nullopt;  // no edge is registered
   double best = reach_ * reach_;
   const TrimEdge* nearest = nullptr;
   double at = 0.0;
-  for (std::uint32_t i : it->second) {
+  // Ties go to the later edge, as the cell lists edges in ascending order.
+  cells_.for_each_at(x, [&](std::uint32_t i) {
     const TrimEdge& e = edges_[i];
     const Vec3 ab = e.b - e.a;
     const double len2 = ab.squaredNorm();
@@ -109,7 +95,7 @@ std::optional<double> TrimLine::beyond(const Vec3& x) const {
       nearest = &e;
       at = u;
     }
-  }
+  });
   if (nearest == nullptr) return std::nullopt;
   const Vec3 b = nearest->a + at * (nearest->b - nearest->a);
   const Vec3 mixed = (1.0 - at) * nearest->tangent_a + at * nearest->tangent_b;

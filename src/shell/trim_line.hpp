@@ -8,9 +8,9 @@
 // edge).
 
 #include <optional>
-#include <unordered_map>
 #include <vector>
 
+#include "core/cell_hash.hpp"
 #include "core/types.hpp"
 #include "geometry/mesh.hpp"
 
@@ -36,12 +36,9 @@ class TrimLine {
     Vec3 a, b;                  // the boundary edge
     Vec3 tangent_a, tangent_b;  // unit outward tangents at a and b
   };
-  std::array<long long, 3> cell_of(const Vec3& p) const;
-  static long long key(const std::array<long long, 3>& c);
-
   std::vector<TrimEdge> edges_;
   double reach_;
-  std::unordered_map<long long, std::vector<std::uint32_t>> buckets_;  // edges within reach of a cell
+  CellHash cells_;  // edges within reach of a cell
 };
 
 }  // namespace poreshell
