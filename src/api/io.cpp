@@ -90,7 +90,7 @@ void save_mesh(const std::filesystem::path& path, const Output& output) {
   TriangleMesh mesh;  // as it is: the pattern is per vertex
   for (const Point& p : output.mesh.vertices) mesh.vertices.emplace_back(p[0], p[1], p[2]);
   mesh.triangles.assign(output.mesh.triangles.begin(), output.mesh.triangles.end());
-  write_ply_pattern(path, mesh, output.pattern, output.iso);
+  write_ply(path, mesh, output.pattern, output.iso);
 }
 
 void check_output_path(const std::filesystem::path& path) {

@@ -103,7 +103,7 @@ void write_mesh(const std::filesystem::path& path, const TriangleMesh& mesh) {
   else if (ext == ".obj")
     write_obj(path, mesh);
   else
-    write_ply_binary(path, mesh);
+    write_ply(path, mesh);
 }
 
 void write_3mf(const std::filesystem::path& path, const TriangleMesh& mesh) {
@@ -178,28 +178,6 @@ void write_obj(const std::filesystem::path& path, const TriangleMesh& mesh) {
       false);
 }
 
-void write_ply_binary(const std::filesystem::path& path, const TriangleMesh& mesh) {
-  check_size(path, mesh);
-  write_atomically(path, [&](std::ostream& out) {
-    const std::string header = fmt::format(
-        "ply\nformat binary_little_endian 1.0\ncomment poreshell porous shell, millimetres\n"
-        "element vertex {}\nproperty float x\nproperty float y\nproperty float z\n"
-        "element face {}\nproperty list uchar int vertex_indices\nend_header\n",
-        mesh.vertices.size(), mesh.triangles.size());
-    out.write(header.data(), static_cast<std::streamsize>(header.size()));
-    // Bytes assembled explicitly, so the file does not depend on the host's byte order.
-    std::vector<char> body;
-    body.reserve(12 * mesh.vertices.size() + 13 * mesh.triangles.size());
-    for (const Vec3& v : mesh.vertices)
-      for (int d = 0; d < 3; ++d) put_u32(body, std::bit_cast<std::uint32_t>(static_cast<float>(v[d])));
-    for (const auto& t : mesh.triangles) {
-      body.push_back(3);
-      for (std::int32_t index : t) put_u32(body, static_cast<std::uint32_t>(index));
-    }
-    out.write(body.data(), static_cast<std::streamsize>(body.size()));
-  });
-}
-
 std::array<std::uint8_t, 3> pattern_colour(double value, double level) {
   static constexpr std::array<double, 3> solid{216, 210, 200}, open{58, 63, 71};
   const double t = std::clamp((value - level) / 0.2 + 0.5, 0.0, 1.0);  // 0 solid .. 1 open
@@ -209,26 +187,31 @@ std::array<std::uint8_t, 3> pattern_colour(double value, double level) {
   return c;
 }
 
-void write_ply_pattern(const std::filesystem::path& path, const TriangleMesh& mesh,
-                       std::span<const double> pattern, double level) {
+void write_ply(const std::filesystem::path& path, const TriangleMesh& mesh, std::span<const double> pattern,
+               double level) {
   check_size(path, mesh);
-  if (pattern.size() != mesh.vertices.size())
+  const bool coloured = !pattern.empty();
+  if (coloured && pattern.size() != mesh.vertices.size())
     throw InputError(
         fmt::format("the pattern has {} values for {} vertices", pattern.size(), mesh.vertices.size()));
   write_atomically(path, [&](std::ostream& out) {
     const std::string header = fmt::format(
-        "ply\nformat binary_little_endian 1.0\ncomment poreshell preview, millimetres; dark: holes\n"
-        "element vertex {}\nproperty float x\nproperty float y\nproperty float z\n"
-        "property uchar red\nproperty uchar green\nproperty uchar blue\n"
+        "ply\nformat binary_little_endian 1.0\ncomment {}\n"
+        "element vertex {}\nproperty float x\nproperty float y\nproperty float z\n{}"
         "element face {}\nproperty list uchar int vertex_indices\nend_header\n",
-        mesh.vertices.size(), mesh.triangles.size());
+        coloured ? "poreshell preview, millimetres; dark: holes" : "poreshell porous shell, millimetres",
+        mesh.vertices.size(),
+        coloured ? "property uchar red\nproperty uchar green\nproperty uchar blue\n" : "",
+        mesh.triangles.size());
     out.write(header.data(), static_cast<std::streamsize>(header.size()));
+    // Bytes assembled explicitly, so the file does not depend on the host's byte order.
     std::vector<char> body;
-    body.reserve(15 * mesh.vertices.size() + 13 * mesh.triangles.size());
+    body.reserve((coloured ? 15 : 12) * mesh.vertices.size() + 13 * mesh.triangles.size());
     for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
       for (int d = 0; d < 3; ++d)
         put_u32(body, std::bit_cast<std::uint32_t>(static_cast<float>(mesh.vertices[v][d])));
-      for (const std::uint8_t c : pattern_colour(pattern[v], level)) body.push_back(static_cast<char>(c));
+      if (coloured)
+        for (const std::uint8_t c : pattern_colour(pattern[v], level)) body.push_back(static_cast<char>(c));
     }
     for (const auto& t : mesh.triangles) {
       body.push_back(3);

@@ -25,13 +25,12 @@ void write_mesh(const std::filesystem::path& path, const TriangleMesh& mesh);
 
 void write_3mf(const std::filesystem::path& path, const TriangleMesh& mesh);
 void write_obj(const std::filesystem::path& path, const TriangleMesh& mesh);
-void write_ply_binary(const std::filesystem::path& path, const TriangleMesh& mesh);
-
-// A preview's surface as a binary PLY with vertex colours (red, green, blue bytes): dark where
-// pattern > level (a hole), light elsewhere, blended over |pattern - level| < 0.1.
-void write_ply_pattern(const std::filesystem::path& path, const TriangleMesh& mesh,
-                       std::span<const double> pattern, double level);
-// The colour write_ply_pattern gives a vertex.
+// Binary little-endian PLY. Given a pattern (one value per vertex, a preview's surface), with vertex
+// colours (red, green, blue bytes): dark where pattern > level (a hole), light elsewhere, blended over
+// |pattern - level| < 0.1.
+void write_ply(const std::filesystem::path& path, const TriangleMesh& mesh,
+               std::span<const double> pattern = {}, double level = 0.0);
+// The colour write_ply gives a vertex.
 std::array<std::uint8_t, 3> pattern_colour(double value, double level);
 
 }  // namespace poreshell
