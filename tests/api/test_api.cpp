@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "poreshell/poreshell.hpp"
+#include "test_meshes.hpp"
 #include "test_support.hpp"
 
 namespace fs = std::filesystem;
@@ -22,31 +23,7 @@ using namespace poreshell;
 
 namespace {
 
-// A closed UV sphere of radius r (mm) around the origin, triangles outward.
-Mesh uv_sphere(double r, int rings, int segments) {
-  Mesh m;
-  m.vertices.push_back({0, 0, r});
-  for (int i = 1; i < rings; ++i) {
-    const double theta = M_PI * i / rings;
-    for (int j = 0; j < segments; ++j) {
-      const double phi = 2 * M_PI * j / segments;
-      m.vertices.push_back(
-          {r * std::sin(theta) * std::cos(phi), r * std::sin(theta) * std::sin(phi), r * std::cos(theta)});
-    }
-  }
-  m.vertices.push_back({0, 0, -r});
-  const auto at = [&](int ring, int j) { return 1 + (ring - 1) * segments + (j % segments); };
-  const auto south = static_cast<std::int32_t>(m.vertices.size() - 1);
-  for (int j = 0; j < segments; ++j) {
-    m.triangles.push_back({0, at(1, j), at(1, j + 1)});
-    for (int i = 1; i + 1 < rings; ++i) {
-      m.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
-      m.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
-    }
-    m.triangles.push_back({at(rings - 1, j), south, at(rings - 1, j + 1)});
-  }
-  return m;
-}
+using test_support::uv_sphere;
 
 // A small, quick request: 12 mm holes on a 40 mm sphere.
 Options quick_options() {

@@ -12,33 +12,12 @@
 #include <numbers>
 
 #include "poreshell/poreshell.hpp"
+#include "test_meshes.hpp"
 
 namespace poreshell {
 namespace {
 
-// The upper half of a sphere of radius r about the origin, outward: open along the equator.
-Mesh upper_hemisphere(double r, int rings, int segments) {
-  Mesh m;
-  m.vertices.push_back({0, 0, r});
-  for (int i = 1; i <= rings; ++i) {
-    const double theta = 0.5 * std::numbers::pi * i / rings;
-    for (int j = 0; j < segments; ++j) {
-      const double phi = 2.0 * std::numbers::pi * j / segments;
-      const double z = i == rings ? 0.0 : std::cos(theta);
-      m.vertices.push_back({r * std::sin(theta) * std::cos(phi), r * std::sin(theta) * std::sin(phi), r * z});
-    }
-  }
-  const auto ring = [&](int i, int j) {
-    return static_cast<std::int32_t>(1 + (i - 1) * segments + j % segments);
-  };
-  for (int j = 0; j < segments; ++j) m.triangles.push_back({0, ring(1, j), ring(1, j + 1)});
-  for (int i = 1; i < rings; ++i)
-    for (int j = 0; j < segments; ++j) {
-      m.triangles.push_back({ring(i, j), ring(i + 1, j), ring(i + 1, j + 1)});
-      m.triangles.push_back({ring(i, j), ring(i + 1, j + 1), ring(i, j + 1)});
-    }
-  return m;
-}
+using test_support::upper_hemisphere;
 
 // Every record: a round-ish hole of about the asked diameter, its centre `middle` from the origin (the
 // wall's middle of a sphere about it), its normal unit and radial, outward; nearest neighbours about the

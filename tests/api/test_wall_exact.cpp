@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "poreshell/poreshell.hpp"
+#include "test_meshes.hpp"
 
 using namespace poreshell;
 
@@ -129,24 +130,9 @@ Options holes_options() {
   return o;
 }
 
-// A flat square sheet, side `side` mm, in the plane z = 0, normal +z.
-Mesh square_sheet(double side, int n) {
-  Mesh m;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i)
-      m.vertices.push_back({side * i / n - side / 2, side * j / n - side / 2, 0.0});
-  const auto at = [n](int i, int j) { return static_cast<std::int32_t>(i + (n + 1) * j); };
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      m.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
-      m.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
-    }
-  return m;
-}
-
 TEST(WallExact, FlatSheetWallIsTheRequest) {
   MeshInput input;
-  input.mesh = square_sheet(60.0, 12);
+  input.mesh = test_support::square_sheet(-60.0 / 2, 60.0, 12);
   input.name = "sheet";
   const Result r = perforate(input, holes_options());
   ASSERT_EQ(r.outputs.size(), 1u);

@@ -17,6 +17,8 @@
 #include <string>
 #include <vector>
 
+#include "process.hpp"
+
 #ifndef PORESHELL_EXE
 #error "PORESHELL_EXE must name the poreshell executable (see tests/CMakeLists.txt)"
 #endif
@@ -42,18 +44,9 @@ struct Row {
 // Option rows: the default sphere, so that a row's options conflict with nothing here.
 const std::string kOptionRun = "--max-steps 5 --tol 1e-12 --quiet";
 
-std::string read_file(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-std::vector<std::string> lines(const std::string& text) {
-  std::vector<std::string> result;
-  std::istringstream in(text);
-  for (std::string line; std::getline(in, line);)
-    if (!line.empty()) result.push_back(line);
-  return result;
-}
+using poreshell::test_support::lines;
+using poreshell::test_support::read_file;
+using poreshell::test_support::run_program;
 
 // For the shell; appended piece by piece, since "'" + s + "'" trips g++ 12's -Wrestrict false positive.
 std::string quoted(const fs::path& p) {
@@ -500,15 +493,13 @@ TEST_F(BadInputs, EachRowFailsWithOneErrorLineNamingProblemAndFixAndWritesNothin
     // "no output" asks for no file at all: a report alone would be an output.
     const bool no_output = row.name == "no output";
     if (args.find(" -o ") == std::string::npos && !no_output) args += " -o out.stl";
-    const fs::path log = root_ / "stderr";
-    const std::string command = "cd '" + out.string() + "' && '" + PORESHELL_EXE + "' " + args + " " +
-                                row.run + (no_output ? "" : " --report out.json") + " >/dev/null 2>'" +
-                                log.string() + "' </dev/null";
-    const int status = std::system(command.c_str());
+    const std::string command = args + " " + row.run + (no_output ? "" : " --report out.json");
+    const auto run = run_program(PORESHELL_EXE, command, out, root_);
+    const int status = run.status;
     ASSERT_TRUE(WIFEXITED(status)) << "killed by a signal: " << command;
     EXPECT_EQ(WEXITSTATUS(status), row.exit_code);
-    const auto err = lines(read_file(log));
-    ASSERT_EQ(err.size(), 1u) << read_file(log);
+    const auto err = lines(run.err);
+    ASSERT_EQ(err.size(), 1u) << run.err;
     EXPECT_EQ(err[0].rfind("poreshell: error: ", 0), 0u) << err[0];
     EXPECT_NE(err[0].find(row.problem), std::string::npos) << err[0];
     EXPECT_NE(err[0].find(row.fix), std::string::npos) << err[0];
@@ -532,15 +523,13 @@ TEST_F(BadInputs, OutputsNamingOneFileOrTheInputAreRefusedBeforeTheRun) {
                                           "-o out.stl --iso 0.1,0.2 --html out-iso0.2.stl"};
   for (const std::string& outputs : cases) {
     SCOPED_TRACE(outputs);
-    const fs::path log = root_ / "stderr";
-    const std::string command = "cd '" + (root_ / "out").string() + "' && '" + PORESHELL_EXE + "' --mesh " +
-                                in + " " + outputs + " " + kSmallRun + " >/dev/null 2>'" + log.string() +
-                                "' </dev/null";
-    const int status = std::system(command.c_str());
+    const std::string command = "--mesh " + in + " " + outputs + " " + kSmallRun;
+    const auto run = run_program(PORESHELL_EXE, command, root_ / "out", root_);
+    const int status = run.status;
     ASSERT_TRUE(WIFEXITED(status)) << "killed by a signal: " << command;
     EXPECT_EQ(WEXITSTATUS(status), 2);
-    const auto err = lines(read_file(log));
-    ASSERT_EQ(err.size(), 1u) << read_file(log);
+    const auto err = lines(run.err);
+    ASSERT_EQ(err.size(), 1u) << run.err;
     EXPECT_TRUE(err[0].find("are the same file") != std::string::npos ||
                 err[0].find("is the input file") != std::string::npos)
         << err[0];
@@ -552,10 +541,11 @@ TEST_F(BadInputs, OutputsNamingOneFileOrTheInputAreRefusedBeforeTheRun) {
 // One triangle is a valid (open) surface, not a bad input: the run writes a closed plate.
 TEST_F(BadInputs, OneTriangleIsAcceptedAndGivesAClosedPlate) {
   std::ofstream(root_ / "in" / "one.obj") << "v 0 0 0\nv 10 0 0\nv 0 10 0\nf 1 2 3\n";
-  const std::string command = "cd '" + (root_ / "out").string() + "' && '" + PORESHELL_EXE + "' --mesh '" +
-                              (root_ / "in" / "one.obj").string() + "' " + kSmallRun +
-                              " -o plate.stl >/dev/null 2>/dev/null </dev/null";
-  const int status = std::system(command.c_str());
+  const int status =
+      run_program(PORESHELL_EXE,
+                  "--mesh " + quoted(root_ / "in" / "one.obj") + " " + kSmallRun + " -o plate.stl",
+                  root_ / "out", root_)
+          .status;
   ASSERT_TRUE(WIFEXITED(status));
   EXPECT_EQ(WEXITSTATUS(status), 0);
   EXPECT_TRUE(fs::exists(root_ / "out" / "plate.stl"));

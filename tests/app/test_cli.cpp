@@ -18,6 +18,8 @@
 #include <utility>
 #include <vector>
 
+#include "process.hpp"
+
 #ifndef PORESHELL_EXE
 #error "PORESHELL_EXE must name the poreshell executable (see tests/CMakeLists.txt)"
 #endif
@@ -30,23 +32,9 @@ namespace fs = std::filesystem;
 // pattern-forming regime well posed on the coarse grid.
 const std::string kSmallRun = "--shape sphere --resolution 33 --alpha 84 --max-steps 5 --tol 1e-12 --quiet";
 
-struct Outcome {
-  int exit_code = -1;
-  std::string out, err;
-};
-
-std::string read_file(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-std::vector<std::string> lines(const std::string& text) {
-  std::vector<std::string> result;
-  std::istringstream in(text);
-  for (std::string line; std::getline(in, line);)
-    if (!line.empty()) result.push_back(line);
-  return result;
-}
+using Outcome = poreshell::test_support::ProgramRun;
+using poreshell::test_support::lines;
+using poreshell::test_support::read_file;
 
 class Cli : public ::testing::Test {
  protected:
@@ -67,15 +55,7 @@ class Cli : public ::testing::Test {
 
   // Runs poreshell with `args` (shell syntax) in work().
   Outcome run(const std::string& args) const {
-    const fs::path out = root_ / "log" / "stdout", err = root_ / "log" / "stderr";
-    const std::string command = "cd '" + work().string() + "' && '" + PORESHELL_EXE + "' " + args + " >'" +
-                                out.string() + "' 2>'" + err.string() + "' </dev/null";
-    const int status = std::system(command.c_str());
-    Outcome o;
-    o.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    o.out = read_file(out);
-    o.err = read_file(err);
-    return o;
+    return poreshell::test_support::run_program(PORESHELL_EXE, args, work(), root_ / "log");
   }
 
   std::vector<std::string> files_in_work() const {

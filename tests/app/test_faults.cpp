@@ -17,6 +17,8 @@
 #include <string>
 #include <vector>
 
+#include "process.hpp"
+
 #ifndef PORESHELL_EXE
 #error "PORESHELL_EXE must name the poreshell executable (see tests/CMakeLists.txt)"
 #endif
@@ -46,10 +48,7 @@ struct Folder {
   }
 };
 
-std::string read_file(const fs::path& p) {
-  std::ifstream in(p);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+using poreshell::test_support::read_file;
 
 // Starts the program with `args`, stdout to /dev/null and stderr to `err`.
 pid_t start(const std::vector<std::string>& args, const fs::path& err) {

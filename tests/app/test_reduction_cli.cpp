@@ -14,6 +14,8 @@
 #include <regex>
 #include <string>
 
+#include "process.hpp"
+
 #ifndef PORESHELL_EXE
 #error "PORESHELL_EXE must name the poreshell executable (see tests/CMakeLists.txt)"
 #endif
@@ -27,15 +29,8 @@ namespace fs = std::filesystem;
 const std::string kSmallRun =
     "--shape sphere --radius 20 --resolution 40 --alpha 84 --max-steps 5 --tol 1e-12 --wall 3.139 --quiet";
 
-struct Outcome {
-  int exit_code = -1;
-  std::string err;
-};
-
-std::string read_file(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+using Outcome = poreshell::test_support::ProgramRun;
+using poreshell::test_support::read_file;
 
 class ReductionCli : public ::testing::Test {
  protected:
@@ -51,11 +46,7 @@ class ReductionCli : public ::testing::Test {
     fs::remove_all(root_, ignored);
   }
   Outcome run(const std::string& args) const {
-    const fs::path err = root_ / "stderr";
-    const std::string command = "cd '" + root_.string() + "' && '" + PORESHELL_EXE + "' " + args +
-                                " >/dev/null 2>'" + err.string() + "' </dev/null";
-    const int status = std::system(command.c_str());
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_file(err)};
+    return poreshell::test_support::run_program(PORESHELL_EXE, args, root_, root_);
   }
   nlohmann::json report() const { return nlohmann::json::parse(read_file(root_ / "r.json")); }
   fs::path root_;

@@ -131,11 +131,7 @@ namespace {
 
 // An open sleeve (radius 0.3, length 0.7) inside the unit box.
 TriangleMesh sleeve_in_unit_box() {
-  const Mesh sleeve = test_support::open_sleeve(0.3, 0.7, 40, 12);
-  TriangleMesh mesh;
-  for (const Point& p : sleeve.vertices) mesh.vertices.emplace_back(p[0] + 0.5, p[1] + 0.5, p[2] + 0.15);
-  mesh.triangles = sleeve.triangles;
-  return mesh;
+  return test_support::to_triangle_mesh(test_support::open_sleeve(0.3, 0.7, 40, 12), Vec3(0.5, 0.5, 0.15));
 }
 
 }  // namespace

@@ -7,24 +7,14 @@
 #include <numbers>
 
 #include "geometry/mesh.hpp"
+#include "test_meshes.hpp"
 
 namespace poreshell {
 namespace {
 
 // An open cylinder of radius 1 and height 1: `n` segments around, two rims of n edges each.
 TriangleMesh open_cylinder(int n) {
-  TriangleMesh m;
-  for (int z = 0; z < 2; ++z)
-    for (int k = 0; k < n; ++k) {
-      const double a = 2.0 * std::numbers::pi * k / n;
-      m.vertices.emplace_back(std::cos(a), std::sin(a), z);
-    }
-  for (int k = 0; k < n; ++k) {
-    const std::int32_t a = k, b = (k + 1) % n, c = n + k, d = n + (k + 1) % n;
-    m.triangles.push_back({a, b, d});
-    m.triangles.push_back({a, d, c});
-  }
-  return m;
+  return test_support::to_triangle_mesh(test_support::open_sleeve(1.0, 1.0, n, 1));
 }
 
 TEST(DegenerateTriangles, RepeatedVertexOrZeroAreaWhateverTheScale) {

@@ -16,6 +16,7 @@
 #include "pattern/grading.hpp"
 #include "pipeline/pipeline.hpp"
 #include "poreshell/io.hpp"
+#include "test_meshes.hpp"
 #include "test_support.hpp"
 
 using namespace poreshell;
@@ -29,20 +30,8 @@ double relative_error(double measured, double asked) {
 
 // An open cylinder (no caps) about the z axis, written as OBJ: a sheet with two boundary circles.
 fs::path write_open_cylinder(const fs::path& dir, double radius, double height) {
-  const int segments = 96, rings = 40;
   const fs::path path = dir / "cylinder.obj";
-  std::ofstream out(path);
-  for (int r = 0; r <= rings; ++r)
-    for (int s = 0; s < segments; ++s) {
-      const double a = 2 * std::numbers::pi * s / segments;
-      out << "v " << radius * std::cos(a) << ' ' << radius * std::sin(a) << ' ' << height * r / rings << '\n';
-    }
-  const auto at = [&](int r, int s) { return 1 + r * segments + s % segments; };
-  for (int r = 0; r < rings; ++r)
-    for (int s = 0; s < segments; ++s) {
-      out << "f " << at(r, s) << ' ' << at(r, s + 1) << ' ' << at(r + 1, s + 1) << '\n';
-      out << "f " << at(r, s) << ' ' << at(r + 1, s + 1) << ' ' << at(r + 1, s) << '\n';
-    }
+  test_support::write_obj_text(path, test_support::open_sleeve(radius, height, 96, 40));
   return path;
 }
 

@@ -21,6 +21,7 @@
 #include "solver/initial_condition.hpp"
 #include "solver/reference_solver.hpp"
 #include "solver/time_stepping.hpp"
+#include "test_meshes.hpp"
 
 using namespace poreshell;
 using poreshell::test_support::PatternRun;
@@ -62,30 +63,6 @@ TriangleMesh icosphere(int subdivisions) {
     m.triangles = std::move(finer);
   }
   for (Vec3& v : m.vertices) v = kCenter + kRadius * v;
-  return m;
-}
-
-// Upper hemisphere z >= 0.5 as a latitude-longitude mesh: a pole fan and `rings` rings of `segments`
-// vertices, the last exactly on the plane z = 0.5, so the boundary is a clean circle.
-TriangleMesh upper_hemisphere(int rings, int segments) {
-  TriangleMesh m;
-  m.vertices.push_back(kCenter + Vec3(0, 0, kRadius));
-  for (int i = 1; i <= rings; ++i) {
-    const double theta = 0.5 * std::numbers::pi * i / rings;
-    for (int j = 0; j < segments; ++j) {
-      const double phi = 2.0 * std::numbers::pi * j / segments;
-      const double z = i == rings ? 0.0 : std::cos(theta);
-      m.vertices.push_back(
-          kCenter + kRadius * Vec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), z));
-    }
-  }
-  auto ring = [&](int i, int j) { return static_cast<std::int32_t>(1 + (i - 1) * segments + j % segments); };
-  for (int j = 0; j < segments; ++j) m.triangles.push_back({0, ring(1, j), ring(1, j + 1)});
-  for (int i = 1; i < rings; ++i)
-    for (int j = 0; j < segments; ++j) {
-      m.triangles.push_back({ring(i, j), ring(i + 1, j), ring(i + 1, j + 1)});
-      m.triangles.push_back({ring(i, j), ring(i + 1, j + 1), ring(i, j + 1)});
-    }
   return m;
 }
 
@@ -164,7 +141,8 @@ TEST(MeshPattern, IcosphereMatchesAnalyticSphere) {
 
 TEST(MeshPattern, OpenHemisphereGivesAPerforatedSheet) {
   // 64 rings x 256 segments: edges of about 0.0074 = 0.47 h.
-  const TriangleMesh hemi = upper_hemisphere(64, 256);
+  const TriangleMesh hemi =
+      test_support::to_triangle_mesh(test_support::upper_hemisphere(kRadius, 64, 256), kCenter);
   const MeshTopology hemi_topology = analyze_topology(hemi);
   EXPECT_TRUE(hemi_topology.manifold() && hemi_topology.oriented());
   EXPECT_EQ(hemi_topology.boundary_edges, 256);

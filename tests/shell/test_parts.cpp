@@ -6,37 +6,16 @@
 #include <numbers>
 
 #include "shell/parts.hpp"
+#include "test_meshes.hpp"
 
 using namespace poreshell;
 
 namespace {
 
-// A closed octahedron-based sphere of radius r at c, outward (or inward when `inward`).
+// A closed UV sphere of radius r at c (12 rings, 24 segments), outward (or inward when `inward`).
 void add_sphere(TriangleMesh& m, const Vec3& c, double r, bool inward = false) {
-  const auto base = static_cast<std::int32_t>(m.vertices.size());
-  const int rings = 12, segments = 24;
-  m.vertices.push_back(c + Vec3(0, 0, r));
-  for (int i = 1; i < rings; ++i)
-    for (int j = 0; j < segments; ++j) {
-      const double theta = std::numbers::pi * i / rings, phi = 2 * std::numbers::pi * j / segments;
-      m.vertices.push_back(
-          c + r * Vec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)));
-    }
-  m.vertices.push_back(c - Vec3(0, 0, r));
-  const auto at = [&](int ring, int j) { return base + 1 + (ring - 1) * segments + j % segments; };
-  const auto south = static_cast<std::int32_t>(m.vertices.size() - 1);
-  const auto add = [&](std::int32_t a, std::int32_t b, std::int32_t d) {
-    m.triangles.push_back(inward ? std::array<std::int32_t, 3>{a, d, b}
-                                 : std::array<std::int32_t, 3>{a, b, d});
-  };
-  for (int j = 0; j < segments; ++j) {
-    add(base, at(1, j), at(1, j + 1));
-    for (int i = 1; i + 1 < rings; ++i) {
-      add(at(i, j), at(i + 1, j), at(i + 1, j + 1));
-      add(at(i, j), at(i + 1, j + 1), at(i, j + 1));
-    }
-    add(at(rings - 1, j), south, at(rings - 1, j + 1));
-  }
+  const Mesh sphere = test_support::uv_sphere(r, 12, 24);
+  test_support::append(m, inward ? test_support::inverted(sphere) : sphere, c);
 }
 
 TEST(Parts, SpecksAndSealedVoidsGoComparablePartsStay) {

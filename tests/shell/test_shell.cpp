@@ -23,6 +23,7 @@
 #include "io/mesh_io.hpp"
 #include "pattern/pattern.hpp"
 #include "shell/shell.hpp"
+#include "test_meshes.hpp"
 
 namespace poreshell {
 namespace {
@@ -255,18 +256,10 @@ TEST(Shell, RejectsANonPositiveWall) {
   EXPECT_THROW(sample_shell(s.sphere, s.band, s.phi, options(0.0, WallOffset::centered, 0.01)), InputError);
 }
 
-// A flat square sheet in the plane z = 0.5, [0.2, 0.8]^2, normal +z, 3 x 3 round pores of radius 0.05.
+// A flat square sheet in the plane z = 0.5, [0.2, 0.8]^2, normal +z, 3 x 3 round pores of radius 0.05
+// (sheet_pattern).
 TriangleMesh square_sheet(int n) {
-  TriangleMesh m;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) m.vertices.emplace_back(0.2 + 0.6 * i / n, 0.2 + 0.6 * j / n, 0.5);
-  const auto at = [n](int i, int j) { return static_cast<std::int32_t>(i + (n + 1) * j); };
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      m.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
-      m.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
-    }
-  return m;
+  return test_support::to_triangle_mesh(test_support::square_sheet(0.2, 0.6, n, 0.5));
 }
 
 double sheet_pattern(const Vec3& x) {

@@ -1,59 +1,45 @@
 #pragma once
-// Meshes several tests build, as the public API's Mesh (mm, outward, counter-clockwise seen from outside).
+// Meshes several tests build, as the public API's Mesh (outward, counter-clockwise seen from outside),
+// and their copy into the library's TriangleMesh. Vertices are computed as radius times a unit
+// direction, so a test that shifts a mesh (append with a centre) gets the bits it computed before.
 
 #include <array>
-#include <cmath>
-#include <cstdint>
-#include <numbers>
+#include <filesystem>
 #include <vector>
 
+#include "core/types.hpp"
+#include "geometry/mesh.hpp"
 #include "poreshell/geometry.hpp"
 
 namespace poreshell::test_support {
 
 // An open cylinder (a sleeve, no caps) about the z axis from z = 0 to `length`, normals outward:
 // `segments` around and `rings` bands along, two boundary circles.
-inline Mesh open_sleeve(double radius, double length, int segments = 96, int rings = 40) {
-  Mesh m;
-  for (int r = 0; r <= rings; ++r)
-    for (int s = 0; s < segments; ++s) {
-      const double a = 2 * std::numbers::pi * s / segments;
-      m.vertices.push_back({radius * std::cos(a), radius * std::sin(a), length * r / rings});
-    }
-  const auto at = [&](int r, int s) { return static_cast<std::int32_t>(r * segments + s % segments); };
-  for (int r = 0; r < rings; ++r)
-    for (int s = 0; s < segments; ++s) {
-      m.triangles.push_back({at(r, s), at(r, s + 1), at(r + 1, s + 1)});
-      m.triangles.push_back({at(r, s), at(r + 1, s + 1), at(r + 1, s)});
-    }
-  return m;
-}
+Mesh open_sleeve(double radius, double length, int segments = 96, int rings = 40);
 
 // A closed surface of revolution about z from a profile of (rho, z) that starts and ends on the axis,
 // outward when the profile runs from bottom to top.
-inline Mesh revolve(const std::vector<std::array<double, 2>>& profile, int segments) {
-  Mesh m;
-  const int n = static_cast<int>(profile.size());
-  m.vertices.push_back({0, 0, profile.front()[1]});
-  for (int k = 1; k + 1 < n; ++k)
-    for (int s = 0; s < segments; ++s) {
-      const double a = 2 * std::numbers::pi * s / segments;
-      m.vertices.push_back({profile[k][0] * std::cos(a), profile[k][0] * std::sin(a), profile[k][1]});
-    }
-  const auto top = static_cast<std::int32_t>(m.vertices.size());
-  m.vertices.push_back({0, 0, profile.back()[1]});
-  const auto at = [&](int k, int s) {
-    return static_cast<std::int32_t>(1 + (k - 1) * segments + s % segments);
-  };
-  for (int s = 0; s < segments; ++s) {
-    m.triangles.push_back({0, at(1, s + 1), at(1, s)});
-    for (int k = 1; k + 2 < n; ++k) {
-      m.triangles.push_back({at(k, s), at(k, s + 1), at(k + 1, s + 1)});
-      m.triangles.push_back({at(k, s), at(k + 1, s + 1), at(k + 1, s)});
-    }
-    m.triangles.push_back({at(n - 2, s), at(n - 2, s + 1), top});
-  }
-  return m;
-}
+Mesh revolve(const std::vector<std::array<double, 2>>& profile, int segments);
+
+// A closed UV sphere of radius r about the origin: the poles, `rings` - 1 rings of `segments` vertices.
+Mesh uv_sphere(double r, int rings, int segments);
+
+// The upper half of a sphere of radius r about the origin, open along the equator: the north pole and
+// `rings` rings of `segments` vertices, the last exactly on z = 0, so the boundary is a clean circle.
+Mesh upper_hemisphere(double r, int rings, int segments);
+
+// A flat square sheet [lo, lo + side]^2 in the plane z, normal +z: n x n squares, two triangles each.
+Mesh square_sheet(double lo, double side, int n, double z = 0.0);
+
+// The same mesh with every triangle turned over (normals inward).
+Mesh inverted(Mesh mesh);
+
+// Appends `mesh`, moved by `shift`, to `to`.
+void append(TriangleMesh& to, const Mesh& mesh, const Vec3& shift = Vec3::Zero());
+// `mesh` moved by `shift` as a TriangleMesh.
+TriangleMesh to_triangle_mesh(const Mesh& mesh, const Vec3& shift = Vec3::Zero());
+
+// Writes `mesh` as OBJ text, numbers as a default ostream prints them (six significant digits).
+void write_obj_text(const std::filesystem::path& path, const Mesh& mesh);
 
 }  // namespace poreshell::test_support
