@@ -1,4 +1,4 @@
-// The triangle reduction's cost (issue 18, item 8; docs/benchmarks.md "Triangle reduction").
+// The triangle reduction's cost (issue 18, item 8; docs/benchmarks-history.md "Triangle reduction").
 //
 //   bench_reduce MESH --triangles N [--distance D] [--repeats 3] [--compare] [--bound-only]
 //
