@@ -10,22 +10,22 @@
 #include <map>
 #include <utility>
 
+#include "poreshell/option_table.hpp"
+
 namespace fs = std::filesystem;
 
 // The library names options by their API names in backquotes (`hole_diameter`); here they are flags.
 std::string with_flags(std::string message) {
-  static const std::map<std::string, std::string> kFlags{
-      {"max_memory_gb", "--max-memory"},        {"tolerance", "--tol"},
-      {"fast_tolerance", "--fast-tol"},         {"inner_tolerance", "--inner-tol"},
-      {"keep_out_boxes", "--keep-out-box"},     {"radius_mm", "--radius"},
-      {"thin_feature_ratio", "--thin-features"}};
   for (std::size_t open = message.find('`'); open != std::string::npos; open = message.find('`', open)) {
     const std::size_t close = message.find('`', open + 1);
     if (close == std::string::npos) break;
-    std::string name = message.substr(open + 1, close - open - 1);
+    const std::string name = message.substr(open + 1, close - open - 1);
+    const poreshell::OptionInfo* info = poreshell::find_option(name);
     std::string flag;
-    if (const auto it = kFlags.find(name); it != kFlags.end()) {
-      flag = it->second;
+    if (info && !info->flag.empty()) {
+      flag = info->flag;
+    } else if (name == "radius_mm") {  // the shape's size, an input rather than an option
+      flag = "--radius";
     } else {
       flag = "--" + name;
       for (char& ch : flag)

@@ -3,9 +3,13 @@
 // report's `settings`, a project file and the studio's HTTP API read and write options through it as
 // JSON (the Python keywords and the CLI's flags, with - for _, use the same names).
 
+#include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
+#include <variant>
+#include <vector>
 
 #include "poreshell/export.hpp"
 #include "poreshell/options.hpp"
@@ -24,6 +28,15 @@ enum class OptionType {
   grade,    // null or the report's object: {"kind": "axis", "axis": 1, "from_diameter": 7, ...}
 };
 
+// The Options member an entry reads and writes, for a front end that binds it by its type (the CLI).
+using OptionField =
+    std::variant<double Options::*, int Options::*, std::int64_t Options::*, std::uint64_t Options::*,
+                 bool Options::*, std::string Options::*, std::vector<double> Options::*,
+                 std::vector<KeepOutSphere> Options::*, std::vector<KeepOutBox> Options::*,
+                 std::optional<Grade> Options::*, Mode Options::*, WallOffset Options::*,
+                 SolverKind Options::*, InnerIteration Options::*, StopRule Options::*, Layout Options::*,
+                 PointRoute Options::*>;
+
 struct OptionInfo {
   std::string_view name;   // the API name (Python keyword; the CLI's flag with - for _)
   std::string_view group;  // holes, model, solid, zones, output, solver, run
@@ -33,6 +46,12 @@ struct OptionInfo {
   bool min_open = false;        // the range excludes min itself (> rather than >=)
   std::string_view help;        // one line, for --help, the studio's fields
   std::string_view choices;     // choice: the names, comma separated
+  // 0, the default, means "not given" (the hole map's lengths, the wall, ...): a flag gives more.
+  bool zero_unset = false;
+  // The command line: the flag ("--tol"; empty: none), its value's placeholder in --help ("MM") and
+  // its --help text, which may name other flags and say more than `help`.
+  std::string_view flag, metavar, flag_help;
+  OptionField field;
 };
 
 // In the order of the report's `settings`.

@@ -226,107 +226,252 @@ struct Row {
   void (*read)(Options&, const OptionInfo&, const json&);
 };
 
+// The command line's side of a row: its flag, the value's placeholder and --help's text.
+struct Flag {
+  std::string_view flag, metavar, help;
+};
+
 template <auto Member>
-Row row(OptionInfo info) {
+Row row(OptionInfo info, Flag flag = {}) {
+  info.flag = flag.flag;
+  info.metavar = flag.metavar;
+  info.flag_help = flag.help;
+  info.field = Member;
   return {info, &write<Member>, &read<Member>};
 }
 
+// The lower end of a number's range: included, excluded, or included where 0 means "not given".
+enum class Min { closed, open, unset };
+
+OptionInfo entry(std::string_view name, std::string_view group, OptionType type, std::string_view help) {
+  OptionInfo info;
+  info.name = name;
+  info.group = group;
+  info.type = type;
+  info.help = help;
+  return info;
+}
 OptionInfo real(std::string_view name, std::string_view group, std::string_view unit, double min, double max,
-                bool min_open, std::string_view help) {
-  return {name, group, OptionType::number, unit, min, max, min_open, help, {}};
+                Min kind, std::string_view help) {
+  OptionInfo info = entry(name, group, OptionType::number, help);
+  info.unit = unit;
+  info.min = min;
+  info.max = max;
+  info.min_open = kind == Min::open;
+  info.zero_unset = kind == Min::unset;
+  return info;
 }
 OptionInfo whole(std::string_view name, std::string_view group, double min, double max,
                  std::string_view help) {
-  return {name, group, OptionType::integer, {}, min, max, false, help, {}};
+  OptionInfo info = entry(name, group, OptionType::integer, help);
+  info.min = min;
+  info.max = max;
+  return info;
 }
 OptionInfo other(std::string_view name, std::string_view group, OptionType type, std::string_view help,
                  std::string_view choices = {}) {
-  return {name, group, type, {}, 0.0, 0.0, false, help, choices};
+  OptionInfo info = entry(name, group, type, help);
+  info.choices = choices;
+  return info;
+}
+OptionInfo levels(std::string_view name, std::string_view group, double min, double max,
+                  std::string_view help) {
+  OptionInfo info = entry(name, group, OptionType::numbers, help);
+  info.min = min;
+  info.max = max;
+  info.min_open = true;
+  return info;
 }
 
 const std::vector<Row>& rows() {
-  constexpr bool open = true, closed = false;
+  constexpr Min open = Min::open, closed = Min::closed, unset = Min::unset;
   constexpr double kIntMax = 9007199254740992.0;  // 2^53: every integer up to it is exact as a double
   static const std::vector<Row> table = {
-      row<&Options::scale>(real("scale", "holes", "", 0, kNoLimit, open,
-                                "multiplies the input's coordinates after its unit (0.5: half size)")),
-      row<&Options::hole_diameter>(real("hole_diameter", "holes", "mm", 0, kNoLimit, closed,
-                                        "hole diameter; 0: not given (the paper's parameters)")),
-      row<&Options::spacing>(
-          real("spacing", "holes", "mm", 0, kNoLimit, closed, "centre to nearest centre; 0: diameter / 0.6")),
-      row<&Options::porosity>(real("porosity", "holes", "", 0, 1, closed,
-                                   "open share of the surface, instead of spacing; 0: not given")),
-      row<&Options::grade>(other("grade", "holes", OptionType::grade,
-                                 "hole diameters graded over the surface (axis, line, radial, field)")),
-      row<&Options::resolution>(whole("resolution", "model", 9, 2048, "grid points along the longest side")),
-      row<&Options::voxel_size>(real("voxel_size", "model", "mm", 0, kNoLimit, closed,
-                                     "grid spacing instead of resolution; 0: from the holes or resolution")),
+      row<&Options::scale>(
+          real("scale", "holes", "", 0, kNoLimit, open,
+               "multiplies the input's coordinates after its unit (0.5: half size)"),
+          {"--scale", "F",
+           "multiply the input's coordinates by F (after --units); lengths on the command line "
+           "are in mm of the scaled model"}),
+      row<&Options::resolution>(
+          whole("resolution", "model", 9, 2048, "grid points along the longest side"),
+          {"--resolution", "N",
+           "grid points N_x along the longest side, h = 1/(N_x - 1) (paper: 131, Fig. 5: 181)"}),
+      row<&Options::voxel_size>(
+          real("voxel_size", "model", "mm", 0, kNoLimit, unset,
+               "grid spacing instead of resolution; 0: from the holes or resolution"),
+          {"--voxel-size", "MM", "grid spacing h in mm; sets the resolution instead of --resolution"}),
       row<&Options::mode>(
-          other("mode", "solid", OptionType::choice, "the printed solid", "shell, narrow_volume")),
-      row<&Options::wall>(real("wall", "solid", "mm", 0, kNoLimit, closed,
-                               "wall thickness; 0: 2 mm for holes in mm, else the band's width")),
-      row<&Options::offset>(other("offset", "solid", OptionType::choice, "the wall's side of the surface",
-                                  "centered, inside, outside")),
-      row<&Options::rim>(real("rim", "zones", "mm", 0, kNoLimit, closed,
-                              "solid along the open boundary; null: half a hole for holes in mm")),
+          other("mode", "solid", OptionType::choice, "the printed solid", "shell, narrow_volume"),
+          {"--mode", "",
+           "shell: wall of --wall mm, pores straight through it; narrow-volume: the paper's Fig. 3b (about "
+           "3.8 h "
+           "thick)"}),
+      row<&Options::wall>(real("wall", "solid", "mm", 0, kNoLimit, unset,
+                               "wall thickness; 0: 2 mm for holes in mm, else the band's width"),
+                          {"--wall", "MM",
+                           "shell wall thickness in mm (default: 2 mm with holes in mm; with the paper's "
+                           "parameters the band's width 2 delta = 3.81 h)"}),
+      row<&Options::offset>(
+          other("offset", "solid", OptionType::choice, "the wall's side of the surface",
+                "centered, inside, outside"),
+          {"--offset", "", "where the shell wall lies: centered on the surface, inside or outside it"}),
+      row<&Options::rim>(
+          real("rim", "zones", "mm", 0, kNoLimit, closed,
+               "solid along the open boundary; null: half a hole for holes in mm"),
+          {"--rim", "MM",
+           "solid rim of this width (mm) along the mesh's open boundary (default: half a hole with "
+           "holes in mm, so that none is cut open; 0: none)"}),
       row<&Options::thin_feature_ratio>(
           real("thin_feature_ratio", "zones", "", 0, kNoLimit, closed,
-               "no hole where the part is thinner than this times a hole; 0: off")),
-      row<&Options::crease_angle>(real("crease_angle", "zones", "degrees", 0, 179.999, closed,
-                                       "no hole within half a hole of a sharper edge; 0: off")),
+               "no hole where the part is thinner than this times a hole; 0: off"),
+          {"--thin-features", "RATIO",
+           "no hole where the part is thinner than this many hole diameters (ears, fingers); 0: off"}),
+      row<&Options::crease_angle>(
+          real("crease_angle", "zones", "degrees", 0, 179.999, closed,
+               "no hole within half a hole of a sharper edge; 0: off"),
+          {"--crease-angle", "DEG",
+           "no hole within half a hole of an edge sharper than this (degrees); 0: off"}),
       row<&Options::keep_out>(
-          other("keep_out", "zones", OptionType::spheres, "spheres kept solid, [[x, y, z, r], ...] in mm")),
-      row<&Options::keep_out_boxes>(other("keep_out_boxes", "zones", OptionType::boxes,
-                                          "boxes kept solid, [[x0, y0, z0, x1, y1, z1], ...] in mm")),
-      row<&Options::keep_out_mask>(other("keep_out_mask", "zones", OptionType::text,
-                                         "a vertex field of the mesh input: solid where it is 1")),
-      row<&Options::keep_fragments>(other("keep_fragments", "output", OptionType::boolean,
-                                          "keep specks and sealed voids instead of removing them")),
+          other("keep_out", "zones", OptionType::spheres, "spheres kept solid, [[x, y, z, r], ...] in mm"),
+          {"--keep-out", "X,Y,Z,R",
+           "solid sphere X,Y,Z,R in mm (input frame) where no pore may form; repeatable"}),
+      row<&Options::keep_out_boxes>(
+          other("keep_out_boxes", "zones", OptionType::boxes,
+                "boxes kept solid, [[x0, y0, z0, x1, y1, z1], ...] in mm"),
+          {"--keep-out-box", "X0,Y0,Z0,X1,Y1,Z1",
+           "solid box X0,Y0,Z0,X1,Y1,Z1 in mm (input frame, two opposite corners); repeatable"}),
+      row<&Options::keep_out_mask>(
+          other("keep_out_mask", "zones", OptionType::text,
+                "a vertex field of the mesh input: solid where it is 1"),
+          {"--keep-out-mask", "NAME",
+           "solid wherever this vertex property of the --mesh PLY file is 1 (a painted 0/1 mask)"}),
+      row<&Options::keep_fragments>(
+          other("keep_fragments", "output", OptionType::boolean,
+                "keep specks and sealed voids instead of removing them"),
+          {"--keep-fragments", "",
+           "keep specks and sealed voids under 1% of the largest part's volume (removed by default)"}),
       row<&Options::min_part_fraction>(real("min_part_fraction", "output", "", 0, 0.999999, closed,
                                             "parts and voids under this share of the largest are removed")),
       row<&Options::max_triangles>(whole("max_triangles", "output", 0, kIntMax,
-                                         "reduce each output to at most this many; 0: no count")),
+                                         "reduce each output to at most this many; 0: no count"),
+                                   {"--max-triangles", "N",
+                                    "reduce each output to at most N triangles, keeping it closed, manifold "
+                                    "and within --max-deviation "
+                                    "of the full isosurface; fails naming the fewest that keep the bound"}),
       row<&Options::max_deviation>(
           real("max_deviation", "output", "mm", 0, kNoLimit, closed,
-               "bound on the reduction's distance from the full isosurface; 0: none")),
+               "bound on the reduction's distance from the full isosurface; 0: none"),
+          {"--max-deviation", "MM",
+           "the written surface lies within this distance (mm, both ways, checked) of the full isosurface, "
+           "with fewer triangles where the shape allows; 0: the full isosurface"}),
       row<&Options::alpha>(
-          real("alpha", "model", "", -kNoLimit, kNoLimit, closed, "the model's alpha (2.1)")),
+          real("alpha", "model", "", 0, kNoLimit, closed, "the model's alpha (2.1)"),
+          {"--alpha", "A", "nonlocal strength α in eq. (2.1) (paper: 1400 sphere and torus, 2200 bunny)"}),
       row<&Options::epsilon_m>(
-          real("epsilon_m", "model", "", 0, kNoLimit, open, "epsilon = m h / (2 sqrt 2 atanh 0.9)")),
-      row<&Options::dt_h>(real("dt_h", "model", "h", 0, kNoLimit, open, "time step in units of h")),
-      row<&Options::phi_bar>(real("phi_bar", "model", "", -1, 1, closed, "mean of phi (the solid share)")),
-      row<&Options::iso>(OptionInfo{
-          "iso", "output", OptionType::numbers, {}, -1, 1, open, "pore levels, one output each", {}}),
+          real("epsilon_m", "model", "", 0, kNoLimit, open, "epsilon = m h / (2 sqrt 2 atanh 0.9)"),
+          {"--epsilon-m", "M", "interface width m in ε_m = m h / (2√2 tanh⁻¹ 0.9) (paper: 4)"}),
+      row<&Options::dt_h>(real("dt_h", "model", "h", 0, kNoLimit, open, "time step in units of h"),
+                          {"--dt-h", "K", "time step Δt in units of h, Δt = K h (paper: 100)"}),
+      row<&Options::iso>(levels("iso", "output", -1, 1, "pore levels, one output each"),
+                         {"--iso", "C[,C...]",
+                          "isosurface level(s) φ = C of the narrow volume, comma-separated or repeated "
+                          "(paper: 0.3, 0, -0.3)"}),
+      row<&Options::phi_bar>(
+          real("phi_bar", "model", "", -1, 1, closed, "mean of phi (the solid share)"),
+          {"--phi-bar", "F", "mean concentration φ̄ in eq. (2.1), sets the pore fraction (paper: -0.3)"}),
+      // After the model rows they replace: the CLI adds flags in this order, and CLI11 names the first
+      // flag given in a clash ("--alpha excludes --hole-diameter").
+      row<&Options::hole_diameter>(
+          real("hole_diameter", "holes", "mm", 0, kNoLimit, unset,
+               "hole diameter; 0: not given (the paper's parameters)"),
+          {"--hole-diameter", "MM",
+           "hole diameter in mm; sets alpha, epsilon, phi-bar, the time step, the pore "
+           "level and the voxel size (docs/printing.md)"}),
+      row<&Options::spacing>(
+          real("spacing", "holes", "mm", 0, kNoLimit, unset, "centre to nearest centre; 0: diameter / 0.6"),
+          {"--spacing", "MM", "hole centre spacing in mm (default with --hole-diameter: diameter / 0.6)"}),
+      row<&Options::porosity>(real("porosity", "holes", "", 0, 1, unset,
+                                   "open share of the surface, instead of spacing; 0: not given"),
+                              {"--porosity", "F", "open share of the surface, instead of --spacing"}),
+      row<&Options::grade>(other("grade", "holes", OptionType::grade,
+                                 "hole diameters graded over the surface (axis, line, radial, field)"),
+                           {"--grade", "SPEC",
+                            "hole-size grading, diameters in mm: axis:x|y|z:D1:D2, line:X,Y,Z:D1:X,Y,Z:D2, "
+                            "radial:X,Y,Z:R:D0 or field:NAME[:D0:D1] (a PLY vertex property)"}),
       row<&Options::initial_amplitude>(real("initial_amplitude", "model", "", 0, kNoLimit, closed,
                                             "amplitude of the initial condition's noise")),
-      row<&Options::seed>(whole("seed", "holes", 0, 18446744073709551615.0, "seed of the initial condition")),
-      row<&Options::preview>(other("preview", "run", OptionType::boolean,
-                                   "the pattern alone on the surface, in about a second")),
-      row<&Options::stop>(other("stop", "solver", OptionType::choice, "when the run to steady state ends",
-                                "auto, paper, holes")),
+      row<&Options::seed>(whole("seed", "holes", 0, 18446744073709551615.0, "seed of the initial condition"),
+                          {"--seed", "S", "seed of rand(x) in φ(x, 0) = φ̄ + 0.5 rand(x)"}),
+      row<&Options::preview>(
+          other("preview", "run", OptionType::boolean, "the pattern alone on the surface, in about a second"),
+          {"--preview", "",
+           "the pattern alone, fast: the surface with its holes painted on (.ply with vertex colours, "
+           "--html), "
+           "no shell; with --layout cvt the full run's starting discs, else the equation stopped as soon as "
+           "the hole layout has settled"}),
+      row<&Options::stop>(
+          other("stop", "solver", OptionType::choice, "when the run to steady state ends",
+                "auto, paper, holes"),
+          {"--stop", "",
+           "when the run ends: holes (the hole count, centres and boundaries have settled; the "
+           "default with --layout cvt and for --preview) or paper (e_c < --tol; the default with "
+           "--layout paper)"}),
       row<&Options::layout>(
-          other("layout", "solver", OptionType::choice, "the hole layout", "auto, paper, cvt")),
+          other("layout", "solver", OptionType::choice, "the hole layout", "auto, paper, cvt"),
+          {"--layout", "",
+           "the hole layout: cvt (the equation started from discs at a centroidal Voronoi tessellation of "
+           "the "
+           "free surface at its own hole density; the default with --hole-diameter, which it needs) or paper "
+           "(the pattern forming from noise; the default with the paper's parameters)"}),
       row<&Options::tolerance>(
-          real("tolerance", "solver", "", 0, kNoLimit, open, "stop when e_c < tolerance")),
-      row<&Options::max_steps>(whole("max_steps", "solver", 1, kIntMax, "time steps at most")),
-      row<&Options::solver>(other("solver", "solver", OptionType::choice, "the solver", "fast, reference")),
+          real("tolerance", "solver", "", 0, kNoLimit, open, "stop when e_c < tolerance"),
+          {"--tol", "T", "stop when the consecutive change e_c < tol (paper: 1e-3)"}),
+      row<&Options::max_steps>(
+          whole("max_steps", "solver", 1, kIntMax, "time steps at most"),
+          {"--max-steps", "S", "at most S time steps (paper: T = 329 Δt sphere, 358 Δt torus)"}),
+      row<&Options::solver>(
+          other("solver", "solver", OptionType::choice, "the solver", "fast, reference"),
+          {"--solver", "",
+           "fast: stabilised scheme, band multigrid (docs/solver.md); reference: the paper's scheme"}),
       row<&Options::fast_tolerance>(
-          real("fast_tolerance", "solver", "", 0, kNoLimit, open, "fast solver: error bound of each solve")),
+          real("fast_tolerance", "solver", "", 0, kNoLimit, open, "fast solver: error bound of each solve"),
+          {"--fast-tol", "T", "fast solver: bound on the error of each step's solve"}),
       row<&Options::min_stabilisation>(
-          real("min_stabilisation", "solver", "", 0, kNoLimit, closed, "fast solver: floor on S")),
-      row<&Options::coarse_start>(other("coarse_start", "solver", OptionType::boolean,
-                                        "fast solver: form large pores on a coarser grid first")),
+          real("min_stabilisation", "solver", "", 0, kNoLimit, closed, "fast solver: floor on S"),
+          {"--min-stabilisation", "S",
+           "fast solver: floor on the stabilisation S (default: the energy-stability bound alone)"}),
+      row<&Options::coarse_start>(
+          other("coarse_start", "solver", OptionType::boolean,
+                "fast solver: form large pores on a coarser grid first"),
+          {"--coarse-start", "",
+           "fast solver: auto forms the pattern on a coarser grid first where epsilon spans 1.8 eps_4 or "
+           "more "
+           "(fine voxels for large pores), then relaxes it here; off solves here from the start"}),
       row<&Options::inner>(other("inner", "solver", OptionType::choice, "reference solver: inner relaxation",
-                                 "gauss_seidel, jacobi")),
+                                 "gauss_seidel, jacobi"),
+                           {"--inner", "", "reference solver: inner relaxation per step (paper: jacobi)"}),
       row<&Options::inner_tolerance>(
-          real("inner_tolerance", "solver", "", 0, kNoLimit, open, "reference solver: inner tolerance")),
+          real("inner_tolerance", "solver", "", 0, kNoLimit, open, "reference solver: inner tolerance"),
+          {"--inner-tol", "T", "inner tolerance on the max-norm scaled residual of eqs. (2.3)-(2.4)"}),
       row<&Options::energy_every>(
-          whole("energy_every", "run", 0, kIntMax, "evaluate the energy every K steps; 0: never")),
+          whole("energy_every", "run", 0, kIntMax, "evaluate the energy every K steps; 0: never"),
+          {"--energy-every", "K",
+           "evaluate the discrete energy (3.2) every K steps and at the end; 0 = never (saves its Poisson "
+           "factorisation on large grids)"}),
       row<&Options::point_route>(
-          other("point_route", "model", OptionType::choice, "point clouds' route", "direct, paper")),
-      row<&Options::max_memory_gb>(real("max_memory_gb", "run", "GB", 0, kNoLimit, closed,
-                                        "refuse runs estimated to need more; 0: what is available")),
-      row<&Options::threads>(whole("threads", "run", 0, 4096, "worker threads; 0: all cores")),
+          other("point_route", "model", OptionType::choice, "point clouds' route", "direct, paper"),
+          {"--point-route", "",
+           "point clouds: direct (distance to discs fitted to the points, no PDE) or paper (densify, then "
+           "the "
+           "segmentation eq. 3.3; needs a closed surface); docs/point-clouds.md"}),
+      row<&Options::max_memory_gb>(
+          real("max_memory_gb", "run", "GB", 0, kNoLimit, unset,
+               "refuse runs estimated to need more; 0: what is available"),
+          {"--max-memory", "GB",
+           "refuse runs estimated to need more memory than this, in GB (default: what is available)"}),
+      row<&Options::threads>(whole("threads", "run", 0, 4096, "worker threads; 0: all cores"),
+                             {"--threads", "N", "worker threads (oneTBB); 0 = all cores"}),
   };
   return table;
 }
