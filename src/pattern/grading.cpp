@@ -44,49 +44,53 @@ double diameter(const std::string& text, const std::string& whole) {
   return d;
 }
 
-Vec3 point(const std::string& text, const std::string& whole) {
+Point point(const std::string& text, const std::string& whole) {
   const std::vector<std::string> xyz = split(text, ',');
   if (xyz.size() != 3) throw OptionError("grade", "`grade` '" + whole + "': a point is X,Y,Z; " + kForms);
   return {number(xyz[0], whole), number(xyz[1], whole), number(xyz[2], whole)};
 }
 
+Vec3 vec(const Point& p) {
+  return {p[0], p[1], p[2]};
+}
+
 }  // namespace
 
-GradeSpec parse_grade_spec(const std::string& raw) {
+Grade parse_grade(const std::string& raw) {
   // Messages quote the spec: control characters (a newline) would break the one-line error.
   const std::string text = text::quote(raw, 120);
   const std::vector<std::string> p = split(raw, ':');
-  GradeSpec g;
+  Grade g;
   const std::string kind = p.empty() ? "" : p[0];
   if (kind == "axis" && p.size() == 4) {
     const std::string axes = "xyz";
     if (p[1].size() != 1 || axes.find(p[1][0]) == std::string::npos)
       throw OptionError("grade", "`grade` '" + text + "': the axis is x, y or z");
-    g.kind = GradeSpec::Kind::axis;
+    g.kind = Grade::Kind::axis;
     g.axis = static_cast<int>(axes.find(p[1][0]));
     g.from_diameter = diameter(p[2], text);
     g.to_diameter = diameter(p[3], text);
   } else if (kind == "line" && p.size() == 5) {
-    g.kind = GradeSpec::Kind::line;
+    g.kind = Grade::Kind::line;
     g.from = point(p[1], text);
     g.from_diameter = diameter(p[2], text);
     g.to = point(p[3], text);
     g.to_diameter = diameter(p[4], text);
     // squaredNorm, not norm: the line's parameter divides by it, which must be neither 0 nor inf.
-    const double length2 = (g.to - g.from).squaredNorm();
+    const double length2 = (vec(g.to) - vec(g.from)).squaredNorm();
     if (!(length2 > 0.0) || !std::isfinite(length2))
       throw OptionError(
           "grade", "`grade` '" + text +
                        "': the two points coincide or are too far apart; give two distinct points in mm");
   } else if (kind == "radial" && p.size() == 4) {
-    g.kind = GradeSpec::Kind::radial;
+    g.kind = Grade::Kind::radial;
     g.from = point(p[1], text);
     g.radius = number(p[2], text);
     if (!(g.radius > 0.0)) throw OptionError("grade", "`grade` '" + text + "': the radius must be positive");
     g.from_diameter = diameter(p[3], text);
   } else if (kind == "field" && (p.size() == 2 || p.size() == 4) && !p[1].empty()) {
-    g.kind = GradeSpec::Kind::field;
-    g.property = p[1];
+    g.kind = Grade::Kind::field;
+    g.field = p[1];
     if (p.size() == 4) {
       g.mapped = true;
       g.from_diameter = diameter(p[2], text);
@@ -163,10 +167,10 @@ GradingSummary apply_grading(std::span<double> phi, std::span<const Vec3> positi
 
 GradeSpec to_grade_spec(const Grade& g) {
   GradeSpec s;
-  s.kind = static_cast<GradeSpec::Kind>(g.kind);
+  s.kind = g.kind;
   s.axis = g.axis;
-  s.from = Vec3(g.from[0], g.from[1], g.from[2]);
-  s.to = Vec3(g.to[0], g.to[1], g.to[2]);
+  s.from = vec(g.from);
+  s.to = vec(g.to);
   s.from_diameter = g.from_diameter;
   s.to_diameter = g.to_diameter;
   s.radius = g.radius;
@@ -175,22 +179,8 @@ GradeSpec to_grade_spec(const Grade& g) {
   return s;
 }
 
-Grade to_grade(const GradeSpec& s) {
-  Grade g;
-  g.kind = static_cast<Grade::Kind>(s.kind);
-  g.axis = s.axis;
-  g.from = {s.from.x(), s.from.y(), s.from.z()};
-  g.to = {s.to.x(), s.to.y(), s.to.z()};
-  g.from_diameter = s.from_diameter;
-  g.to_diameter = s.to_diameter;
-  g.radius = s.radius;
-  g.field = s.property;
-  g.mapped = s.mapped;
-  return g;
-}
-
-Grade parse_grade(const std::string& text) {
-  return to_grade(parse_grade_spec(text));
+GradeSpec parse_grade_spec(const std::string& text) {
+  return to_grade_spec(parse_grade(text));
 }
 
 GradingSummary grade_holes(const GradeSpec& grade, const std::function<double(const Vec3&)>& field,

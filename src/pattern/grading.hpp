@@ -22,8 +22,11 @@
 
 namespace poreshell {
 
+// The public Grade (include/poreshell/options.hpp) in the stage's terms: points as Vec3 for the
+// geometry below. Grade is the one that is parsed and stored; to_grade_spec is the one conversion.
 struct GradeSpec {
-  enum class Kind { axis, line, radial, field } kind = Kind::axis;
+  using Kind = Grade::Kind;
+  Kind kind = Kind::axis;
   Vec3 from = Vec3::Zero(), to = Vec3::Zero();    // line: the two points; radial: the centre in `from`
   int axis = 2;                                   // axis: 0, 1, 2 for x, y, z
   double from_diameter = 0.0, to_diameter = 0.0;  // axis, line, field (mapped); radial: from_diameter
@@ -32,11 +35,9 @@ struct GradeSpec {
   bool mapped = false;                            // field: values 0..1 mapped to from..to diameters
 };
 
-// Parses one `grade` value; throws OptionError naming the accepted forms.
-GradeSpec parse_grade_spec(const std::string& text);
-// The public spec (include/poreshell/options.hpp) and back.
 GradeSpec to_grade_spec(const Grade& grade);
-Grade to_grade(const GradeSpec& spec);
+// parse_grade (the public parser) in the stage's terms; throws OptionError naming the accepted forms.
+GradeSpec parse_grade_spec(const std::string& text);
 
 // The target diameter at a point (mm), for a spec over a model with bounds `bounds` and a base
 // diameter (the request's); `field` evaluates the PLY property at a point (field specs only).
