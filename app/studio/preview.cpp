@@ -7,7 +7,7 @@
 #include <limits>
 #include <string>
 
-#include "base64.hpp"
+#include "poreshell/base64.hpp"
 
 namespace studio {
 namespace {
@@ -49,10 +49,10 @@ nlohmann::json surface_json(const poreshell::Output& out, const std::string& kno
   for (const double v : out.pattern) append(pattern, static_cast<float>(v - out.iso));
   const std::size_t hash = std::hash<std::string>{}(positions) ^ (std::hash<std::string>{}(indices) << 1);
   const std::string id = std::to_string(hash) + "-" + std::to_string(out.mesh.vertices.size());
-  nlohmann::json surface = {{"id", id}, {"pattern", base64_encode(pattern)}};
+  nlohmann::json surface = {{"id", id}, {"pattern", poreshell::base64_encode(pattern)}};
   if (id != known_id) {
-    surface["positions"] = base64_encode(positions);
-    surface["indices"] = base64_encode(indices);
+    surface["positions"] = poreshell::base64_encode(positions);
+    surface["indices"] = poreshell::base64_encode(indices);
   }
   return surface;
 }
@@ -68,7 +68,7 @@ nlohmann::json model_mesh_json(const Model& model) {
     for (const double c : p) append(positions, static_cast<float>(c * mm));
   for (const poreshell::Triangle& t : mesh ? mesh->mesh.triangles : cloud->patches)
     for (const std::int32_t i : t) append(indices, static_cast<std::uint32_t>(i));
-  return {{"positions", base64_encode(positions)}, {"indices", base64_encode(indices)}};
+  return {{"positions", poreshell::base64_encode(positions)}, {"indices", poreshell::base64_encode(indices)}};
 }
 
 nlohmann::json preview_figures(const poreshell::Result& result) {

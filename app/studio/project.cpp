@@ -5,8 +5,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "base64.hpp"
 #include "models.hpp"
+#include "poreshell/base64.hpp"
 #include "run_request.hpp"
 
 namespace studio {
@@ -36,7 +36,7 @@ Project load_project(const fs::path& file) {
   }
   Project out;
   if (model.contains("data") && model["data"].is_string()) {
-    const auto bytes = base64_decode(model["data"].get<std::string>());
+    const auto bytes = poreshell::base64_decode(model["data"].get<std::string>());
     if (!bytes) throw Error(ErrorCode::invalid_input, "the project's embedded model is not base64");
     out.input = read_model_bytes(*bytes, name, unit);
   } else if (model.contains("path") && model["path"].is_string()) {

@@ -24,6 +24,7 @@
 #include "core/error.hpp"
 #include "io/atomic_file.hpp"
 #include "io/viewer_assets.hpp"
+#include "poreshell/base64.hpp"
 
 extern char** environ;
 
@@ -44,28 +45,6 @@ void append_f32(std::string& bytes, double v) {
 }
 void append_f32(std::string& bytes, const Vec3& v) {
   for (int i = 0; i < 3; ++i) append_f32(bytes, v[i]);
-}
-
-std::string base64(std::string_view bytes) {
-  static constexpr char alphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  out.reserve((bytes.size() + 2) / 3 * 4);
-  std::size_t i = 0;
-  const auto byte = [&](std::size_t k) {
-    return static_cast<std::uint32_t>(static_cast<unsigned char>(bytes[k]));
-  };
-  for (; i + 3 <= bytes.size(); i += 3) {
-    const std::uint32_t n = byte(i) << 16 | byte(i + 1) << 8 | byte(i + 2);
-    for (int shift = 18; shift >= 0; shift -= 6) out.push_back(alphabet[(n >> shift) & 63u]);
-  }
-  if (const std::size_t rest = bytes.size() - i; rest > 0) {
-    const std::uint32_t n = byte(i) << 16 | (rest == 2 ? byte(i + 1) << 8 : 0u);
-    out.push_back(alphabet[(n >> 18) & 63u]);
-    out.push_back(alphabet[(n >> 12) & 63u]);
-    out.push_back(rest == 2 ? alphabet[(n >> 6) & 63u] : '=');
-    out.push_back('=');
-  }
-  return out;
 }
 
 bool finite(const Vec3& v) {
@@ -121,7 +100,7 @@ nlohmann::json page_data(const ViewerData& data) {
   for (const std::vector<Vec3>& loop : data.rim_loops) {
     std::string points;
     for (const Vec3& p : loop) append_f32(points, p);
-    rims.push_back(base64(points));
+    rims.push_back(base64_encode(points));
   }
   static constexpr std::string_view axes = "xyz";
   return {{"format", 1},
@@ -133,10 +112,10 @@ nlohmann::json page_data(const ViewerData& data) {
           {"mesh",
            {{"vertices", data.mesh.vertices.size()},
             {"triangles", data.mesh.triangles.size()},
-            {"positions", base64(positions)},
-            {"indices", base64(indices)},
-            {"pattern", data.pattern.empty() ? json(nullptr) : json(base64(pattern))}}},
-          {"holes", {{"count", data.holes.size()}, {"data", base64(holes)}}},
+            {"positions", base64_encode(positions)},
+            {"indices", base64_encode(indices)},
+            {"pattern", data.pattern.empty() ? json(nullptr) : json(base64_encode(pattern))}}},
+          {"holes", {{"count", data.holes.size()}, {"data", base64_encode(holes)}}},
           {"rim_width_mm", data.rim_width_mm},
           {"rim_loops", rims},
           {"keep_out_spheres", spheres},

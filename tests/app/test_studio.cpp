@@ -21,7 +21,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "base64.hpp"
+#include "poreshell/base64.hpp"
 #include "server.hpp"
 
 extern char** environ;
@@ -243,7 +243,7 @@ TEST_F(Studio, PaintedMaskKeepsItsAreaSolid) {
   // need not be the file's).
   const json model = upload("ball.obj", sphere_obj(20.0, 3), 200);
   const int id = model["id"].get<int>();
-  const std::string positions = *studio::base64_decode(model["mesh"]["positions"].get<std::string>());
+  const std::string positions = *poreshell::base64_decode(model["mesh"]["positions"].get<std::string>());
   ASSERT_EQ(positions.size(), model["vertices"].get<std::size_t>() * 12);
   json mask = json::array();
   for (std::size_t v = 0; v < positions.size() / 12; ++v) {
@@ -410,7 +410,7 @@ std::string read_bytes(const fs::path& path) {
 TEST_F(Studio, ProjectThroughTheCommandLineGivesMakesBytes) {
   const std::string obj = sphere_obj(20.0, 3);
   const json model = upload("ball.obj", obj, 200);
-  const std::string positions = *studio::base64_decode(model["mesh"]["positions"].get<std::string>());
+  const std::string positions = *poreshell::base64_decode(model["mesh"]["positions"].get<std::string>());
   json mask = json::array();
   for (std::size_t v = 0; v < positions.size() / 12; ++v) {
     float z = 0;
@@ -427,10 +427,11 @@ TEST_F(Studio, ProjectThroughTheCommandLineGivesMakesBytes) {
   ASSERT_GT(part.size(), 1000u);
 
   const fs::path project = workdir_ / "p.json", out = workdir_ / "cli.3mf";
-  const json file = {{"poreshell_project", 1},
-                     {"model", {{"name", "ball.obj"}, {"units", "mm"}, {"data", studio::base64_encode(obj)}}},
-                     {"options", options},
-                     {"keep_out_mask_values", mask}};
+  const json file = {
+      {"poreshell_project", 1},
+      {"model", {{"name", "ball.obj"}, {"units", "mm"}, {"data", poreshell::base64_encode(obj)}}},
+      {"options", options},
+      {"keep_out_mask_values", mask}};
   std::ofstream(project) << file.dump();
   const std::string command = std::string("'") + PORESHELL_EXE + "' --project '" + project.string() +
                               "' -o '" + out.string() + "' -q";

@@ -1,9 +1,9 @@
-#include "base64.hpp"
+#include "poreshell/base64.hpp"
 
 #include <array>
 #include <cstdint>
 
-namespace studio {
+namespace poreshell {
 namespace {
 constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
 }
@@ -56,4 +56,4 @@ std::optional<std::string> base64_decode(std::string_view text) {
   return out;
 }
 
-}  // namespace studio
+}  // namespace poreshell
