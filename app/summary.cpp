@@ -30,31 +30,8 @@ std::string readable(double x) {
   return std::abs(x) >= 100.0 ? fmt::format("{:.0f}", x) : fmt::format("{:.3g}", x);
 }
 
-}  // namespace
-
-void print_estimate(const std::string& input_name, const poreshell::Estimate& e) {
-  fmt::print("poreshell {}: {}\n", poreshell::version(), input_name);
-  fmt::print("  size     {:.4g} x {:.4g} x {:.4g} mm\n", e.size_mm[0], e.size_mm[1], e.size_mm[2]);
-  const std::string time = e.seconds < 10.0   ? fmt::format("{:.1f} s", e.seconds)
-                           : e.seconds < 90.0 ? fmt::format("{:.0f} s", e.seconds)
-                                              : fmt::format("{:.1f} min", e.seconds / 60.0);
-  const std::string output =
-      e.preview ? fmt::format("the surface painted, {} MB as PLY ({} million triangles; preview)",
-                              readable(e.ply_bytes / 1e6), readable(e.triangles / 1e6))
-                : fmt::format("{} MB as STL ({} million triangles)", readable(e.stl_bytes / 1e6),
-                              readable(e.triangles / 1e6));
-  fmt::print(
-      "  estimate about {:.3g} million band voxels on {} x {} x {} (h = {:.3g} mm): about {} on 2 cores, "
-      "peak memory {:.0f} MiB, output {}\n",
-      e.band_voxels / 1e6, e.grid[0], e.grid[1], e.grid[2], e.voxel_size_mm, time,
-      e.peak_bytes / (1024.0 * 1024.0), output);
-  for (const std::string& warning : e.warnings) fmt::print("  warning  {}\n", warning);
-  std::fflush(stdout);
-}
-
-void print_summary(const poreshell::Options& c, const poreshell::Report& r,
-                   std::span<const poreshell::Output> outputs, const std::string& report,
-                   std::span<const WrittenFile> others) {
+// Input, grid, band and model, and how the pattern was started.
+void print_setup(const poreshell::Options& c, const poreshell::Report& r) {
   const auto& d = r.grid_dims;
   if (r.input.kind == "mesh")
     fmt::print(
@@ -90,6 +67,10 @@ void print_summary(const poreshell::Options& c, const poreshell::Report& r,
     fmt::print("  layout   cvt: {} discs at a centroidal Voronoi tessellation of the free surface{}\n",
                r.solver.layout_holes,
                r.solver.steps == 0 ? " (the preview's holes; the equation not run)" : "");
+}
+
+// How the equation ran and the pattern it formed.
+void print_solve(const poreshell::Options& c, const poreshell::Report& r) {
   if (r.solver.steps == 0) {
     // A preview of the even layout: nothing was solved.
   } else if (r.solver.stop_rule == "holes")
@@ -129,6 +110,10 @@ void print_summary(const poreshell::Options& c, const poreshell::Report& r,
   if (r.pattern.closed_rim_holes > 0)
     fmt::print("  closed   {} hole{} that would leave less than the rim asked\n", r.pattern.closed_rim_holes,
                r.pattern.closed_rim_holes == 1 ? "" : "s");
+}
+
+// Time and memory, the solid, its zones and the hole map.
+void print_cost_and_solid(const poreshell::Report& r) {
   fmt::print("  time     band {:.2f} s, solve {:.2f} s, mesh+write {:.2f} s, total {:.2f} s ({} threads)\n",
              r.seconds.band, r.seconds.solve, r.seconds.mesh, r.seconds.total, r.threads);
   constexpr double kMiB = 1024.0 * 1024.0;
@@ -171,74 +156,106 @@ void print_summary(const poreshell::Options& c, const poreshell::Report& r,
         "mm\n",
         r.grading->min_diameter, r.grading->max_diameter, 100.0 * r.grading->clamped_fraction,
         r.grading->printable_min, r.grading->printable_max);
-  for (std::size_t i = 0; i < r.outputs.size(); ++i) {
-    const poreshell::LevelReport& m = r.outputs[i];
-    const auto& t = m.topology;
-    fmt::print(
-        "  measured {} holes, diameter {:.4g} mm (CV {:.3f}), spacing {:.4g} mm (CV {:.3f}), porosity {:.3f}",
-        m.holes.count, m.holes.diameter_mean, m.holes.diameter_cv, m.holes.spacing_mean, m.holes.spacing_cv,
-        m.holes.porosity);
-    if (m.reduction)
-      fmt::print(
-          "; reduced {} -> {} triangles, within {:.3g} mm of the full isosurface (checked at {} points)",
-          m.reduction->triangles_before, m.reduction->triangles_after, m.reduction->max_distance,
-          m.reduction->sampled_points);
-    if (m.parts.removed_fragments + m.parts.removed_voids > 0)
-      fmt::print("; removed {} specks and {} sealed voids ({:.3g} mm^3{})", m.parts.removed_fragments,
-                 m.parts.removed_voids, m.parts.removed_volume,
-                 m.parts.removed_wall_voids > 0
-                     ? fmt::format(", {} of them in the wall without pores too", m.parts.removed_wall_voids)
-                     : "");
-    if (m.parts.filled_cavities > 0)
-      fmt::print("; filled {} sealed cavities no pore opens ({:.3g} mm^3, the largest {:.3g})",
-                 m.parts.filled_cavities, m.parts.filled_volume, m.parts.largest_filled_volume);
-    if (m.parts.parts > 1) fmt::print("; {} separate parts", m.parts.parts);
-    if (m.wall.probes > 0) {
-      fmt::print("; wall {:.4g} mm ({:.4g}-{:.4g} over 90% of {} probes", m.wall.median, m.wall.low,
-                 m.wall.high, m.wall.probes);
-      if (m.wall.merged > 0)
-        fmt::print(", {} up to {:.4g} mm where the part is thinner than two walls and solid", m.wall.merged,
-                   m.wall.max);
-      fmt::print(")");
-    }
-    fmt::print("\n");
-    if (i < outputs.size() && !outputs[i].holes.empty() && !r.preview) {
-      double circularity = 0.0, diameter = 0.0, least_diameter = 1e300, least_axis_ratio = 1.0;
-      for (const poreshell::Hole& h : outputs[i].holes) {
-        circularity += h.circularity;
-        diameter += h.diameter;
-        least_diameter = std::min(least_diameter, h.diameter);
-        least_axis_ratio = std::min(least_axis_ratio, h.axis_ratio);
-      }
-      const auto n = static_cast<double>(outputs[i].holes.size());
-      fmt::print("  on mesh  {} holes at mid-wall, diameter {:.4g} mm (least {:.3g}), circularity {:.3f}, ",
-                 outputs[i].holes.size(), diameter / n, least_diameter, circularity / n);
-      fmt::print("least axis ratio {:.2f}\n", least_axis_ratio);
-    }
-    // What the zones asked for, as measured on the holes.
-    if (m.zones.rim_asked > 0.0 && !std::isnan(m.zones.rim))
-      fmt::print("  rim      {:.3g} mm from the open boundary to the nearest hole (asked {:g} mm{})\n",
-                 m.zones.rim, m.zones.rim_asked, std::isnan(c.rim) ? ", the default: half a hole" : "");
-    if (!std::isnan(m.zones.keep_out_clearance))
-      fmt::print("  keep-out {} zones, {}; nearest hole edge {:.3g} mm from one\n",
-                 c.keep_out.size() + c.keep_out_boxes.size(),
-                 m.zones.holes_in_keep_outs == 0
-                     ? std::string("no hole reaches in")
-                     : fmt::format("{} HOLES REACH IN", m.zones.holes_in_keep_outs),
-                 m.zones.keep_out_clearance);
-    const std::string path = m.path.empty() ? std::string("no file (no -o)") : m.path;
-    if (r.preview) {
-      fmt::print("  output   {} (iso {:g}): the surface with {} holes painted on (preview)\n", path, m.iso,
-                 m.holes.count);
-      continue;
-    }
-    fmt::print(
-        "  output   {} (iso {:g}): {} triangles, {}, {}, smallest angle {:.1f} deg, Euler characteristic {}, "
-        "pores from Euler {} vs {} spots on band{}\n",
-        path, m.iso, t.triangles, yes_no(t.closed, "closed", "OPEN"),
-        yes_no(t.manifold, "manifold", "NON-MANIFOLD"), t.min_angle_degrees, t.euler_characteristic,
-        m.pores_from_euler, m.spots_at_iso, spots_without_pore(m));
+}
+
+// One pore level's measures and file; `output` (its mesh and hole table) may be null.
+void print_level(const poreshell::Options& c, const poreshell::Report& r, const poreshell::LevelReport& m,
+                 const poreshell::Output* output) {
+  const auto& t = m.topology;
+  fmt::print(
+      "  measured {} holes, diameter {:.4g} mm (CV {:.3f}), spacing {:.4g} mm (CV {:.3f}), porosity {:.3f}",
+      m.holes.count, m.holes.diameter_mean, m.holes.diameter_cv, m.holes.spacing_mean, m.holes.spacing_cv,
+      m.holes.porosity);
+  if (m.reduction)
+    fmt::print("; reduced {} -> {} triangles, within {:.3g} mm of the full isosurface (checked at {} points)",
+               m.reduction->triangles_before, m.reduction->triangles_after, m.reduction->max_distance,
+               m.reduction->sampled_points);
+  if (m.parts.removed_fragments + m.parts.removed_voids > 0)
+    fmt::print("; removed {} specks and {} sealed voids ({:.3g} mm^3{})", m.parts.removed_fragments,
+               m.parts.removed_voids, m.parts.removed_volume,
+               m.parts.removed_wall_voids > 0
+                   ? fmt::format(", {} of them in the wall without pores too", m.parts.removed_wall_voids)
+                   : "");
+  if (m.parts.filled_cavities > 0)
+    fmt::print("; filled {} sealed cavities no pore opens ({:.3g} mm^3, the largest {:.3g})",
+               m.parts.filled_cavities, m.parts.filled_volume, m.parts.largest_filled_volume);
+  if (m.parts.parts > 1) fmt::print("; {} separate parts", m.parts.parts);
+  if (m.wall.probes > 0) {
+    fmt::print("; wall {:.4g} mm ({:.4g}-{:.4g} over 90% of {} probes", m.wall.median, m.wall.low,
+               m.wall.high, m.wall.probes);
+    if (m.wall.merged > 0)
+      fmt::print(", {} up to {:.4g} mm where the part is thinner than two walls and solid", m.wall.merged,
+                 m.wall.max);
+    fmt::print(")");
   }
+  fmt::print("\n");
+  if (output && !output->holes.empty() && !r.preview) {
+    double circularity = 0.0, diameter = 0.0, least_diameter = 1e300, least_axis_ratio = 1.0;
+    for (const poreshell::Hole& h : output->holes) {
+      circularity += h.circularity;
+      diameter += h.diameter;
+      least_diameter = std::min(least_diameter, h.diameter);
+      least_axis_ratio = std::min(least_axis_ratio, h.axis_ratio);
+    }
+    const auto n = static_cast<double>(output->holes.size());
+    fmt::print("  on mesh  {} holes at mid-wall, diameter {:.4g} mm (least {:.3g}), circularity {:.3f}, ",
+               output->holes.size(), diameter / n, least_diameter, circularity / n);
+    fmt::print("least axis ratio {:.2f}\n", least_axis_ratio);
+  }
+  // What the zones asked for, as measured on the holes.
+  if (m.zones.rim_asked > 0.0 && !std::isnan(m.zones.rim))
+    fmt::print("  rim      {:.3g} mm from the open boundary to the nearest hole (asked {:g} mm{})\n",
+               m.zones.rim, m.zones.rim_asked, std::isnan(c.rim) ? ", the default: half a hole" : "");
+  if (!std::isnan(m.zones.keep_out_clearance))
+    fmt::print("  keep-out {} zones, {}; nearest hole edge {:.3g} mm from one\n",
+               c.keep_out.size() + c.keep_out_boxes.size(),
+               m.zones.holes_in_keep_outs == 0 ? std::string("no hole reaches in")
+                                               : fmt::format("{} HOLES REACH IN", m.zones.holes_in_keep_outs),
+               m.zones.keep_out_clearance);
+  const std::string path = m.path.empty() ? std::string("no file (no -o)") : m.path;
+  if (r.preview) {
+    fmt::print("  output   {} (iso {:g}): the surface with {} holes painted on (preview)\n", path, m.iso,
+               m.holes.count);
+    return;
+  }
+  fmt::print(
+      "  output   {} (iso {:g}): {} triangles, {}, {}, smallest angle {:.1f} deg, Euler characteristic {}, "
+      "pores from Euler {} vs {} spots on band{}\n",
+      path, m.iso, t.triangles, yes_no(t.closed, "closed", "OPEN"),
+      yes_no(t.manifold, "manifold", "NON-MANIFOLD"), t.min_angle_degrees, t.euler_characteristic,
+      m.pores_from_euler, m.spots_at_iso, spots_without_pore(m));
+}
+
+}  // namespace
+
+void print_estimate(const std::string& input_name, const poreshell::Estimate& e) {
+  fmt::print("poreshell {}: {}\n", poreshell::version(), input_name);
+  fmt::print("  size     {:.4g} x {:.4g} x {:.4g} mm\n", e.size_mm[0], e.size_mm[1], e.size_mm[2]);
+  const std::string time = e.seconds < 10.0   ? fmt::format("{:.1f} s", e.seconds)
+                           : e.seconds < 90.0 ? fmt::format("{:.0f} s", e.seconds)
+                                              : fmt::format("{:.1f} min", e.seconds / 60.0);
+  const std::string output =
+      e.preview ? fmt::format("the surface painted, {} MB as PLY ({} million triangles; preview)",
+                              readable(e.ply_bytes / 1e6), readable(e.triangles / 1e6))
+                : fmt::format("{} MB as STL ({} million triangles)", readable(e.stl_bytes / 1e6),
+                              readable(e.triangles / 1e6));
+  fmt::print(
+      "  estimate about {:.3g} million band voxels on {} x {} x {} (h = {:.3g} mm): about {} on 2 cores, "
+      "peak memory {:.0f} MiB, output {}\n",
+      e.band_voxels / 1e6, e.grid[0], e.grid[1], e.grid[2], e.voxel_size_mm, time,
+      e.peak_bytes / (1024.0 * 1024.0), output);
+  for (const std::string& warning : e.warnings) fmt::print("  warning  {}\n", warning);
+  std::fflush(stdout);
+}
+
+void print_summary(const poreshell::Options& c, const poreshell::Report& r,
+                   std::span<const poreshell::Output> outputs, const std::string& report,
+                   std::span<const WrittenFile> others) {
+  print_setup(c, r);
+  print_solve(c, r);
+  print_cost_and_solid(r);
+  for (std::size_t i = 0; i < r.outputs.size(); ++i)
+    print_level(c, r, r.outputs[i], i < outputs.size() ? &outputs[i] : nullptr);
   if (!report.empty()) fmt::print("  report   {}\n", report);
   std::string also;
   for (const WrittenFile& f : others)
