@@ -54,7 +54,7 @@ struct OptionInfo {
   OptionField field;
 };
 
-// In the order of the report's `settings`.
+// In the order of the CLI's --help (the report's `settings` are sorted by name).
 PORESHELL_API std::span<const OptionInfo> option_table();
 // The entry of `name`, or null.
 PORESHELL_API const OptionInfo* find_option(std::string_view name);

@@ -283,6 +283,8 @@ OptionInfo levels(std::string_view name, std::string_view group, double min, dou
   return info;
 }
 
+// The ranges are what a JSON value must meet. validate() checks the same bounds on every Options,
+// however made, with messages that say why; the CLI's flags check only the sign (command_line.cpp).
 const std::vector<Row>& rows() {
   constexpr Min open = Min::open, closed = Min::closed, unset = Min::unset;
   constexpr double kIntMax = 9007199254740992.0;  // 2^53: every integer up to it is exact as a double
