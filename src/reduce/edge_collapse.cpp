@@ -24,6 +24,9 @@
 #include <stdexcept>
 #include <tuple>
 
+#include "reduce/collapse_queue.hpp"
+#include "reduce/corner_table.hpp"
+
 namespace poreshell {
 namespace {
 
@@ -34,104 +37,6 @@ constexpr double kUnbounded = std::numeric_limits<double>::infinity();
 // Slack in the barycentric test of a point on a triangle's edge, lest round-off miss both triangles.
 constexpr double kOnEdge = 1e-12;
 
-// Sum of squared distances to planes, each weighted by its triangle's area: the symmetric 4 x 4
-// matrix's upper triangle.
-struct Quadric {
-  double xx = 0, xy = 0, xz = 0, xw = 0, yy = 0, yz = 0, yw = 0, zz = 0, zw = 0, ww = 0;
-
-  static Quadric plane(const Vec3& n, double d, double weight) {
-    return {weight * n.x() * n.x(), weight * n.x() * n.y(), weight * n.x() * n.z(), weight * n.x() * d,
-            weight * n.y() * n.y(), weight * n.y() * n.z(), weight * n.y() * d,     weight * n.z() * n.z(),
-            weight * n.z() * d,     weight * d * d};
-  }
-  Quadric& operator+=(const Quadric& o) {
-    xx += o.xx, xy += o.xy, xz += o.xz, xw += o.xw, yy += o.yy;
-    yz += o.yz, yw += o.yw, zz += o.zz, zw += o.zw, ww += o.ww;
-    return *this;
-  }
-  // The sum of squared distances at p.
-  double at(const Vec3& p) const {
-    const double x = p.x(), y = p.y(), z = p.z();
-    return x * (xx * x + 2.0 * (xy * y + xz * z + xw)) + y * (yy * y + 2.0 * (yz * z + yw)) +
-           z * (zz * z + 2.0 * zw) + ww;
-  }
-};
-
-// The vertices waiting to collapse, least key first. Keys are errors rounded down to four octaves
-// (every fourth exponent of a non-negative double), ties by vertex: collapses within a factor of 16 of
-// each other go in vertex order, so that those in one part of the mesh go one after another, while its
-// data is in the cache. On the bunny's 1.5 M triangles, keys of half an octave took bench_reduce from
-// 9.7-10.3 s (exact errors) to 7.7 s; four octaves then took it from 5.4-6.0 s to 4.8-5.4 s (runs in
-// turn), at the same deviation, triangle count and smallest angle, with 8 % more triangles with an
-// angle under 10 degrees (docs/benchmarks.md "The reduction's loop"). With so few distinct keys, each
-// is a set of vertices as a bitmap with two levels of summary words: the least vertex of the least key
-// is three word scans away, and a vertex goes in or out by setting a few bits, where a binary heap
-// moved it through some twenty levels.
-class VertexQueue {
- public:
-  explicit VertexQueue(std::size_t vertices) : key_of_(vertices, kNone), words_((vertices + 63) / 64) {}
-
-  bool empty() const { return size_ == 0; }
-  std::int32_t top() const {
-    std::size_t k = 0;
-    while (occupied_[k] == 0) ++k;
-    const Bits& b = *keys_[64 * k + static_cast<std::size_t>(std::countr_zero(occupied_[k]))];
-    std::size_t i = 0;
-    while (b.top[i] == 0) ++i;
-    const std::size_t j = 64 * i + static_cast<std::size_t>(std::countr_zero(b.top[i]));
-    const std::size_t w = 64 * j + static_cast<std::size_t>(std::countr_zero(b.middle[j]));
-    return static_cast<std::int32_t>(64 * w + static_cast<std::size_t>(std::countr_zero(b.bottom[w])));
-  }
-  std::vector<std::int32_t> vertices() const {
-    std::vector<std::int32_t> out;
-    for (std::size_t v = 0; v < key_of_.size(); ++v)
-      if (key_of_[v] != kNone) out.push_back(static_cast<std::int32_t>(v));
-    return out;
-  }
-
-  void set(std::int32_t v, double error) {
-    const auto key = static_cast<std::uint16_t>(std::bit_cast<std::uint64_t>(error) >> 54);
-    const auto u = static_cast<std::size_t>(v);
-    if (key_of_[u] == key) return;
-    remove(v);
-    key_of_[u] = key;
-    if (!keys_[key]) keys_[key] = std::make_unique<Bits>(words_);
-    Bits& b = *keys_[key];
-    if (b.count++ == 0) occupied_[key / 64] |= std::uint64_t{1} << (key % 64);
-    b.bottom[u / 64] |= std::uint64_t{1} << (u % 64);
-    b.middle[u / 4096] |= std::uint64_t{1} << (u / 64 % 64);
-    b.top[u / 262144] |= std::uint64_t{1} << (u / 4096 % 64);
-    ++size_;
-  }
-  void remove(std::int32_t v) {
-    const auto u = static_cast<std::size_t>(v);
-    const std::uint16_t key = key_of_[u];
-    if (key == kNone) return;
-    key_of_[u] = kNone;
-    --size_;
-    Bits& b = *keys_[key];
-    if (--b.count == 0) occupied_[key / 64] &= ~(std::uint64_t{1} << (key % 64));
-    if ((b.bottom[u / 64] &= ~(std::uint64_t{1} << (u % 64))) != 0) return;
-    if ((b.middle[u / 4096] &= ~(std::uint64_t{1} << (u / 64 % 64))) != 0) return;
-    b.top[u / 262144] &= ~(std::uint64_t{1} << (u / 4096 % 64));
-  }
-
- private:
-  static constexpr std::uint16_t kNone = 0xffff;
-  static constexpr std::size_t kKeys = 512;  // the top 10 bits of a non-negative double: sign 0
-  struct Bits {
-    explicit Bits(std::size_t words)
-        : bottom(words, 0), middle((words + 63) / 64, 0), top((words + 4095) / 4096, 0) {}
-    std::vector<std::uint64_t> bottom, middle, top;  // a vertex; a word of bottom; a word of middle
-    std::size_t count = 0;
-  };
-  std::vector<std::uint16_t> key_of_;  // per vertex, kNone where out
-  std::size_t words_;
-  std::array<std::unique_ptr<Bits>, kKeys> keys_{};
-  std::array<std::uint64_t, kKeys / 64> occupied_{};
-  std::size_t size_ = 0;
-};
-
 // A collapse is named by the corner c of v0 in the triangle that runs v0 -> v1 -> vl; the triangle
 // across the edge runs v1 -> v0 -> vr.
 //
@@ -141,7 +46,7 @@ class VertexQueue {
 // all of whose vertices are then in the part: the parts' collapses touch disjoint data and may run at
 // once. The vertices along the cuts between parts belong to none; a last worker owning every vertex
 // goes on from there to the target (see run()).
-class Collapser {
+class Collapser : CornerTable {
  public:
   Collapser(const TriangleMesh& mesh, const std::vector<std::int32_t>& opposite,
             const OriginalSurface& original, double tolerance, DistanceRule rule)
@@ -152,7 +57,6 @@ class Collapser {
     // too, so that their first touch is shared out as well (0.14 s -> 0.10-0.12 s).
     tbb::parallel_invoke(
         [&] {
-          dead_.assign(nf, 0);
           first_point_.assign(nf, -1);
           next_point_.assign(nv, -1);
           owner_.assign(nv, 0);
@@ -175,20 +79,9 @@ class Collapser {
           }
         },
         [&] {
-          corners_.resize(3 * nf);
-          vertex_corner_.assign(nv, -1);
-          valence_.assign(nv, 0);
+          build_table(mesh, opposite);
           sine_.resize(nf);
           shape_.resize(nf);
-          // A closed manifold's vertex has as many triangles as edges: its valence counts its corners.
-          for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
-            const auto& t = mesh.triangles[f];
-            for (int k = 0; k < 3; ++k) {
-              corners_[3 * f + k] = {t[k], opposite[3 * f + k]};
-              vertex_corner_[static_cast<std::size_t>(t[k])] = static_cast<std::int32_t>(3 * f + k);
-              ++valence_[static_cast<std::size_t>(t[k])];
-            }
-          }
           tbb::parallel_for(std::size_t{0}, mesh.triangles.size(), [&](std::size_t f) {
             const auto& t = mesh.triangles[f];
             const Vec3 &a = points_[t[0]], &b = points_[t[1]], &c = points_[t[2]];
@@ -208,7 +101,7 @@ class Collapser {
     LoopProgress loop(progress, (live - target) / 2);
     std::vector<char> candidate(points_.size(), 1);
     if (live >= kParallelTriangles) {
-      const std::vector<std::size_t> share = split_into_parts(kParts);
+      const std::vector<std::size_t> share = split_into_parts(kParts, points_);
       std::vector<std::size_t> removed(kParts, 0);
       std::vector<std::vector<std::int32_t>> left(kParts);
       std::vector<CollapseCounts> part_counts(kParts);
@@ -232,16 +125,10 @@ class Collapser {
       // The last worker tries the vertices along the cuts and those still in a part's queue; the
       // others failed every collapse and stay out until a collapse next to them, as in one run. A part's
       // vertex away from the cuts keeps what its part found: nothing around it has changed since.
-      std::fill(candidate.begin(), candidate.end(), 0);
+      candidate = along_cuts();
       for (const auto& vertices : left)
-        for (const std::int32_t v : vertices) candidate[static_cast<std::size_t>(v)] = kAsLeft;
-      std::vector<std::int32_t> around;
-      for (std::size_t v = 0; v < points_.size(); ++v)
-        if (owner_[v] < 0 && vertex_corner_[v] >= 0) {
-          candidate[v] = 1;
-          fan(static_cast<std::int32_t>(v), around);
-          for (const std::int32_t c : around) candidate[static_cast<std::size_t>(vertex(next_corner(c)))] = 1;
-        }
+        for (const std::int32_t v : vertices)
+          if (!candidate[static_cast<std::size_t>(v)]) candidate[static_cast<std::size_t>(v)] = kAsLeft;
       std::fill(owner_.begin(), owner_.end(), 0);
       const std::size_t all = std::accumulate(removed.begin(), removed.end(), std::size_t{0});
       Worker last(0, points_.size(), live);
@@ -318,7 +205,7 @@ class Collapser {
     Worker(int owned_part, std::size_t vertices, std::size_t questions)
         : part(owned_part), queue(vertices), mark(vertices, 0), cache(questions) {}
     int part;
-    VertexQueue queue;
+    VertexQueue<> queue;
     std::vector<std::uint32_t> mark;  // stamp on v0's neighbours during a link test
     std::uint32_t stamp = 0;
     NearCache cache;
@@ -334,49 +221,6 @@ class Collapser {
     FanFrame frame;  // of v0's fan, for fan_distance_bound(); ready once seen in this choose()
     CollapseCounts counts;
   };
-
-  // Slabs along the longest side, of equal vertex counts; a vertex with a neighbour in another slab
-  // is owned by no part (-1). Returns each part's triangles (those whose first vertex it owns).
-  std::vector<std::size_t> split_into_parts(int parts) {
-    Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-    for (const Vec3& p : points_) {
-      lo = lo.cwiseMin(p);
-      hi = hi.cwiseMax(p);
-    }
-    int axis = 0;
-    (hi - lo).maxCoeff(&axis);
-    // Vertex i of the order along the axis (ties by index: a total order, so the same slabs on any
-    // thread count) goes to part i * parts / n. Only the slabs' bounds are needed, not the order: each
-    // is selected from what the one before left (the bunny's shell, 750 k vertices: 0.03 s, where
-    // sorting them all took 0.08 s).
-    std::vector<std::pair<double, std::int32_t>> keyed(points_.size());
-    tbb::parallel_for(std::size_t{0}, keyed.size(), [&](std::size_t v) {
-      keyed[v] = {points_[v][axis], static_cast<std::int32_t>(v)};
-    });
-    const std::size_t n = keyed.size();
-    std::size_t begin = 0;
-    for (int part = 0; part < parts; ++part) {
-      // The first i with i * parts / n == part + 1.
-      const std::size_t end =
-          part + 1 == parts ? n : ((part + 1) * n + parts - 1) / static_cast<std::size_t>(parts);
-      if (end < n) std::nth_element(keyed.begin() + begin, keyed.begin() + end, keyed.end());
-      tbb::parallel_for(begin, end,
-                        [&](std::size_t i) { owner_[static_cast<std::size_t>(keyed[i].second)] = part; });
-      begin = end;
-    }
-    std::vector<char> cut(points_.size(), 0);
-    for (std::size_t f = 0; f < dead_.size(); ++f) {
-      const std::int32_t a = corners_[3 * f].vertex, b = corners_[3 * f + 1].vertex,
-                         c = corners_[3 * f + 2].vertex;
-      if (owner_[a] != owner_[b] || owner_[b] != owner_[c]) cut[a] = cut[b] = cut[c] = 1;
-    }
-    std::vector<std::size_t> share(static_cast<std::size_t>(parts), 0);
-    for (std::size_t f = 0; f < dead_.size(); ++f)
-      ++share[static_cast<std::size_t>(owner_[corners_[3 * f].vertex])];
-    for (std::size_t v = 0; v < cut.size(); ++v)
-      if (cut[v]) owner_[v] = -1;
-    return share;
-  }
 
   // The worker's collapses, starting from the candidate vertices it owns, until `quota` triangles are
   // gone or none of its vertices can move; returns how many triangles went.
@@ -440,20 +284,8 @@ class Collapser {
   }
 
   bool owns(const Worker& w, std::int32_t v) const { return owner_[static_cast<std::size_t>(v)] == w.part; }
-  std::int32_t vertex(std::int32_t c) const { return corners_[static_cast<std::size_t>(c)].vertex; }
-  std::int32_t across(std::int32_t c) const { return corners_[static_cast<std::size_t>(c)].opposite; }
   const Vec3& point(std::int32_t v) const { return points_[static_cast<std::size_t>(v)]; }
 
-  // The corners of v, turning around it.
-  void fan(std::int32_t v, std::vector<std::int32_t>& out) const {
-    out.clear();
-    const std::int32_t first = vertex_corner_[static_cast<std::size_t>(v)];
-    std::int32_t c = first;
-    do {
-      out.push_back(c);
-      c = next_corner(across(next_corner(c)));
-    } while (c != first);
-  }
   // The link condition: v0 and v1 share no neighbour but vl and vr. A valence-3 vertex beside the
   // edge would be left with two triangles back to back.
   bool topology_ok(Worker& w, std::int32_t c) {
@@ -472,18 +304,8 @@ class Collapser {
 
   // Whether the collapse through corner c of v keeps the mesh 2-manifold, with v's neighbours
   // marked (mark_neighbours(v)): the test of topology_ok().
-  bool link_ok(Worker& w, std::int32_t c) {
-    const std::int32_t v1 = vertex(next_corner(c)), vl = vertex(previous_corner(c));
-    const std::int32_t vr = vertex(across(previous_corner(c)));
-    if (vl == vr || valence_[static_cast<std::size_t>(vl)] <= 3 ||
-        valence_[static_cast<std::size_t>(vr)] <= 3)
-      return false;
-    fan(v1, w.scratch);
-    for (const std::int32_t k : w.scratch) {
-      const std::int32_t n = vertex(next_corner(k));
-      if (n != vl && n != vr && w.mark[static_cast<std::size_t>(n)] == w.stamp) return false;
-    }
-    return true;
+  bool link_ok(Worker& w, std::int32_t c) const {
+    return CornerTable::link_ok(c, w.mark, w.stamp, w.scratch);
   }
   void mark_neighbours(Worker& w, std::int32_t v) {
     fan(v, w.fan_rated);
@@ -710,43 +532,19 @@ class Collapser {
     return true;
   }
 
-  std::int32_t corner_in(std::int32_t triangle, std::int32_t v) const {
-    for (std::int32_t k = 3 * triangle; k < 3 * triangle + 3; ++k)
-      if (vertex(k) == v) return k;
-    throw std::runtime_error("mesh decimation: a corner table lost a vertex");
-  }
-
   void collapse(Worker& w, std::int32_t c) {
-    const std::int32_t v0 = vertex(c), v1 = vertex(next_corner(c)), vl = vertex(previous_corner(c));
-    const std::int32_t e = across(previous_corner(c));  // vr's corner
-    const std::int32_t vr = vertex(e), left = c / 3, right = e / 3;
-    const std::int32_t right0 = previous_corner(e), right1 = next_corner(e);  // v0's and v1's
+    const std::int32_t v0 = vertex(c), v1 = vertex(next_corner(c));
+    const std::int32_t left = c / 3, right = across(previous_corner(c)) / 3;
     fan(v0, w.fan_check);
     // Their fans change: v0's neighbours' triangles now end at v1 (vl's and vr's lose one), v1's grows.
     for (const std::int32_t k : w.fan_check)
       shapes_refuse_[static_cast<std::size_t>(vertex(next_corner(k)))] = 0;
     shapes_refuse_[static_cast<std::size_t>(v1)] = 0;
-    // The triangles across the removed ones' outer edges now face each other.
-    const std::int32_t a = across(c), b = across(next_corner(c)), f = across(right0), g = across(right1);
-    corners_[static_cast<std::size_t>(a)].opposite = b;
-    corners_[static_cast<std::size_t>(b)].opposite = a;
-    corners_[static_cast<std::size_t>(f)].opposite = g;
-    corners_[static_cast<std::size_t>(g)].opposite = f;
     for (const std::int32_t k : w.fan_check)
-      if (k / 3 != left && k / 3 != right) {
-        corners_[static_cast<std::size_t>(k)].vertex = v1;
+      if (k / 3 != left && k / 3 != right)
         distance_bound_[static_cast<std::size_t>(k / 3)] = target_bound_[static_cast<std::size_t>(v0)];
-      }
-    dead_[static_cast<std::size_t>(left)] = dead_[static_cast<std::size_t>(right)] = 1;
-    vertex_corner_[static_cast<std::size_t>(v0)] = -1;
-    vertex_corner_[static_cast<std::size_t>(v1)] = corner_in(a / 3, v1);
-    vertex_corner_[static_cast<std::size_t>(vl)] = corner_in(a / 3, vl);
-    vertex_corner_[static_cast<std::size_t>(vr)] = corner_in(f / 3, vr);
+    collapse_corners(c, w.fan_check);
     w.queue.remove(v0);
-    // v1 gains v0's neighbours but the shared vl and vr (the link condition); they lose v0.
-    valence_[static_cast<std::size_t>(v1)] += valence_[static_cast<std::size_t>(v0)] - 4;
-    --valence_[static_cast<std::size_t>(vl)];
-    --valence_[static_cast<std::size_t>(vr)];
     quadric_[static_cast<std::size_t>(v1)] += quadric_[static_cast<std::size_t>(v0)];
 
     // The changed triangles' shapes and planes: a triangle whose plane is no nearer to a point than
@@ -829,24 +627,14 @@ class Collapser {
   const double min_sine_squared_ = std::pow(std::sin(kMinAngleDegrees * std::numbers::pi / 180.0), 2);
   const double min_cos_ = std::cos(kMaxNormalDegrees * std::numbers::pi / 180.0);
 
-  // Each corner's vertex and the corner across the edge it faces, side by side: walking around a
-  // vertex reads both, and on a mesh of a million triangles that walk is mostly cache misses.
-  struct Corner {
-    std::int32_t vertex, opposite;
-  };
-  std::vector<Corner> corners_;
-  std::vector<std::int32_t> vertex_corner_;  // a corner of each vertex in a live triangle; -1: removed
-  std::vector<std::int32_t> valence_;        // per vertex
-  std::vector<char> dead_;                   // per triangle
-  std::vector<Quadric> quadric_;             // per vertex
-  std::vector<double> sine_;                 // squared, of each triangle's smallest angle, kept up to date
-  std::vector<TriangleShape> shape_;         // of each triangle, kept up to date
+  std::vector<Quadric> quadric_;      // per vertex
+  std::vector<double> sine_;          // squared, of each triangle's smallest angle, kept up to date
+  std::vector<TriangleShape> shape_;  // of each triangle, kept up to date
   // The removed vertices, each on the list of the triangle it is nearest among those it was
   // distributed over: first_point_ per triangle, next_point_ per vertex, -1 ends a list.
   std::vector<std::int32_t> first_point_, next_point_;
-  std::vector<std::int32_t> owner_;  // per vertex: the part whose worker may move it; -1: none
-  std::vector<double> bound_;        // per vertex: at most the error of each of its collapses
-  std::vector<char> checked_;        // target_ passed all the rules and the queue holds its error
+  std::vector<double> bound_;  // per vertex: at most the error of each of its collapses
+  std::vector<char> checked_;  // target_ passed all the rules and the queue holds its error
   // Per vertex: every collapse of it failed its shape on its fan as it is. A shape depends on the fan
   // alone, so the vertex stays out of the queue until its fan changes.
   std::vector<char> shapes_refuse_;
