@@ -25,22 +25,25 @@
 
 #include "geometry/mesh.hpp"
 #include "io/mesh_io.hpp"
+#include "io/mesh_writers.hpp"
 #include "reduce/collapse_bounds.hpp"
 #include "reduce/mesh_decimate.hpp"
 
 int main(int argc, char** argv) {
   using namespace poreshell;
   CLI::App app("poreshell triangle reduction benchmark");
-  std::string path;
+  std::string path, output;
   std::int64_t triangles = 0;
   double distance = 0.05;
   int repeats = 3;
-  bool compare = false, bound_only = false;
+  bool compare = false, bound_only = false, placed = false;
   app.add_option("mesh", path, "closed mesh file")->required();
   app.add_option("--triangles", triangles, "target triangle count")->required();
   app.add_option("--distance", distance, "distance bound, in the mesh's units");
   app.add_option("--repeats", repeats, "runs");
+  app.add_option("--output", output, "write the last run's reduced mesh here");
   app.add_flag("--compare", compare, "also time the checks alone (no bounds from the fans)");
+  app.add_flag("--placed", placed, "collapses that place the kept vertex (placed_collapse.hpp)");
   app.add_flag("--bound-only", bound_only,
                "the fans' bounds alone, as the default output reduces (issue 49)");
   CLI11_PARSE(app, argc, argv);
@@ -53,9 +56,10 @@ int main(int argc, char** argv) {
     DecimateOptions options;
     options.max_triangles = triangles;
     options.max_distance = distance;
-    options.rule = checks_alone ? DistanceRule::kCheckOnly
-                   : bound_only ? DistanceRule::kBoundOnly
-                                : DistanceRule::kBoundOrCheck;
+    options.rule = placed         ? DistanceRule::kPlaced
+                   : checks_alone ? DistanceRule::kCheckOnly
+                   : bound_only   ? DistanceRule::kBoundOnly
+                                  : DistanceRule::kBoundOrCheck;
     const auto start = std::chrono::steady_clock::now();
     const DecimateResult result = decimate_mesh(mesh, options);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -65,6 +69,7 @@ int main(int argc, char** argv) {
       for (const std::int32_t v : t)
         hash = hash * 1000003u ^ std::hash<double>{}(mesh.vertices[static_cast<std::size_t>(v)].x());
     fastest[checks_alone] = std::min(fastest[checks_alone], seconds);
+    if (!output.empty()) write_mesh(output, mesh);
     fmt::print("{}{} -> {} triangles in {:.2f} s, {:.1f} us a collapse, distance {:.4f}, ",
                checks_alone ? "checks alone: " : "", result.triangles_before, result.triangles_after, seconds,
                1e6 * seconds / collapses, result.max_distance);

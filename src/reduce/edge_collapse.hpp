@@ -29,6 +29,8 @@ namespace poreshell {
 struct CollapsedMesh {
   std::vector<std::array<std::int32_t, 3>> triangles;
   std::vector<std::int32_t> carrier;
+  // Where each vertex is, for collapses that move the vertices they keep; empty where none moved.
+  std::vector<Vec3> positions;
 };
 
 // Collapses edges of `mesh` until at most max_triangles remain or no collapse passes the rules.
