@@ -104,9 +104,14 @@ void print_solve(const poreshell::Options& c, const poreshell::Report& r) {
                r.pattern.closed_small_holes, plural);
   if (r.pattern.closed_oblong_holes > 0)
     fmt::print(
-        "  closed   {} oblong hole{} (axis ratio under 0.65 on the surface: slots beside solid zones, "
-        "creases or tight bends)\n",
+        "  closed   {} oblong hole{} (axis ratio under 0.8 on the surface, too narrow to round: slots "
+        "beside solid zones, creases or tight bends)\n",
         r.pattern.closed_oblong_holes, r.pattern.closed_oblong_holes == 1 ? "" : "s");
+  if (r.pattern.rounded_oblong_holes > 0)
+    fmt::print(
+        "  rounded  {} oblong hole{} (axis ratio under 0.8 on the surface): cut to a disc about {} centre\n",
+        r.pattern.rounded_oblong_holes, r.pattern.rounded_oblong_holes == 1 ? "" : "s",
+        r.pattern.rounded_oblong_holes == 1 ? "its" : "their");
   if (r.pattern.closed_rim_holes > 0)
     fmt::print("  closed   {} hole{} that would leave less than the rim asked\n", r.pattern.closed_rim_holes,
                r.pattern.closed_rim_holes == 1 ? "" : "s");

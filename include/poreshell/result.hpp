@@ -179,9 +179,11 @@ struct Report {
     std::int64_t closed_small_holes = 0;
     double size_cv = 0.0, mean_size_voxels = 0.0, area_fraction = 0.0, spacing_mean_voxels = 0.0,
            spacing_cv = 0.0;
-    // Spots whose axis ratio on the surface is under 0.65 (a slot between solid zones, across a crease,
-    // on a tight bend) made solid, so that no written hole is oblong (issue 51).
+    // Spots whose axis ratio on the surface is under 0.8 (a slot between solid zones, across a crease,
+    // on a tight bend), so that no written hole is oblong (issue 51): made solid where the round hole
+    // left of them would be a pinhole or is not round either (closed), else cut down to it (rounded).
     std::int64_t closed_oblong_holes = 0;
+    std::int64_t rounded_oblong_holes = 0;
     // Spots that would leave less than the asked rim (as discs of their area), made solid (issue 51).
     std::int64_t closed_rim_holes = 0;
   } pattern;

@@ -199,6 +199,7 @@ json to_json(const Report& r, std::span<const Output> outputs) {
        {{"spots", r.pattern.spots},
         {"closed_small_holes", r.pattern.closed_small_holes},
         {"closed_oblong_holes", r.pattern.closed_oblong_holes},
+        {"rounded_oblong_holes", r.pattern.rounded_oblong_holes},
         {"closed_rim_holes", r.pattern.closed_rim_holes},
         {"size_cv", r.pattern.size_cv},
         {"mean_size_voxels", r.pattern.mean_size_voxels},

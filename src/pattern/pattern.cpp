@@ -2,6 +2,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <limits>
@@ -72,44 +73,94 @@ std::int64_t close_small_spots(const NarrowBand& band, std::span<double> phi, do
   return closed;
 }
 
-std::int64_t close_oblong_spots(const NarrowBand& band, std::span<double> phi, double level,
-                                double min_axis_ratio, const std::function<bool(const Vec3&)>& kept) {
+namespace {
+
+// Area-weighted second moments of spots' closest points on the surface.
+struct SpotMoments {
+  double w = 0.0;
+  Vec3 sum = Vec3::Zero();
+  Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
+
+  void add(double weight, const Vec3& p) {
+    w += weight;
+    sum += weight * p;
+    outer += weight * p * p.transpose();
+  }
+  Vec3 mean() const { return sum / w; }
+  // Ascending: the normal's, the minor axis's, the major axis's variance.
+  Vec3 variances() const {
+    const Vec3 m = mean();
+    const Eigen::Matrix3d covariance = outer / w - m * m.transpose();
+    return Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(covariance, Eigen::EigenvaluesOnly).eigenvalues();
+  }
+  double axis_ratio() const {
+    const Vec3 lambda = variances();
+    return lambda[2] > 0.0 ? std::sqrt(std::max(lambda[1], 0.0) / lambda[2]) : 1.0;
+  }
+};
+
+}  // namespace
+
+OblongSpots round_oblong_spots(const NarrowBand& band, std::span<double> phi, double level,
+                               const OblongRule& rule, const std::function<bool(const Vec3&)>& kept) {
   const std::vector<std::int32_t> label = label_spots(band, phi, level);
-  struct Moments {
-    double w = 0.0;
-    Vec3 sum = Vec3::Zero();
-    Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
-  };
-  std::vector<Moments> spots;
+  std::vector<SpotMoments> spots;
   for (std::size_t v = 0; v < label.size(); ++v) {
     if (label[v] < 0) continue;
     const auto l = static_cast<std::size_t>(label[v]);
     if (l >= spots.size()) spots.resize(l + 1);
-    const double w = band.surface_area(v);
-    const Vec3 p = band.closest_point(v);
-    spots[l].w += w;
-    spots[l].sum += w * p;
-    spots[l].outer += w * p * p.transpose();
+    spots[l].add(band.surface_area(v), band.closest_point(v));
   }
+  // An oblong spot is cut to a disc about its centre: of its own area's radius sqrt(a b) where that
+  // leaves it round (the ellipse's ends trimmed; a and b its semi-axes, 2 sqrt(variance) for a uniform
+  // ellipse), else of its minor semi-axis b, the inscribed disc. phi is lowered to a ramp through the
+  // level at that radius, with the slope of the equation's own tanh profile there, so that the new edge
+  // is as smooth as the others.
+  constexpr std::size_t kRadii = 2;
+  std::vector<std::array<double, kRadii>> radii(spots.size(), {0.0, 0.0});
   std::vector<char> oblong(spots.size(), 0);
-  std::int64_t closed = 0;
   for (std::size_t l = 0; l < spots.size(); ++l) {
-    const Moments& m = spots[l];
-    if (!(m.w > 0.0)) continue;
-    const Vec3 mean = m.sum / m.w;
-    const Eigen::Matrix3d covariance = m.outer / m.w - mean * mean.transpose();
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance, Eigen::EigenvaluesOnly);
-    const Vec3 lambda = eigen.eigenvalues();  // ascending: the normal's, the minor axis's, the major's
-    const bool is_oblong =
-        lambda[2] > 0.0 && std::sqrt(std::max(lambda[1], 0.0) / lambda[2]) < min_axis_ratio;
+    const SpotMoments& m = spots[l];
+    if (!(m.w > 0.0) || !(m.axis_ratio() < rule.min_axis_ratio)) continue;
     // `kept` (a walk over the open boundary) asked of the few oblong spots only, not of every spot.
-    if (!is_oblong || (kept && kept(mean))) continue;
+    if (kept && kept(m.mean())) continue;
     oblong[l] = 1;
-    ++closed;
+    const Vec3 lambda = m.variances().cwiseMax(0.0);
+    radii[l] = {2.0 * std::sqrt(std::sqrt(lambda[1] * lambda[2])), 2.0 * std::sqrt(lambda[1])};
   }
-  for (std::size_t v = 0; v < label.size(); ++v)
-    if (label[v] >= 0 && oblong[static_cast<std::size_t>(label[v])]) phi[v] = -1.0;
-  return closed;
+  const double slope = (1.0 - level * level) / (std::numbers::sqrt2 * rule.epsilon);
+  const auto cut = [&](double value, double radius, double r) {
+    return std::max(-1.0, std::min(value, level + slope * (radius - r)));
+  };
+  std::vector<std::array<SpotMoments, kRadii>> left(spots.size());
+  for (std::size_t v = 0; v < label.size(); ++v) {
+    if (label[v] < 0 || !oblong[static_cast<std::size_t>(label[v])]) continue;
+    const auto l = static_cast<std::size_t>(label[v]);
+    const Vec3 p = band.closest_point(v);
+    const double r = (p - spots[l].mean()).norm();
+    for (std::size_t k = 0; k < kRadii; ++k)
+      if (cut(phi[v], radii[l][k], r) > level) left[l][k].add(band.surface_area(v), p);
+  }
+  // What is left must be a hole as wide as the small-hole rule asks, and round (a banana's or a
+  // figure-eight's centre lies off its spot: the cut leaves a sliver or two pieces); else it is closed.
+  const double least_area = std::numbers::pi * rule.min_diameter * rule.min_diameter / 4.0;
+  OblongSpots result;
+  std::vector<double> radius(spots.size(), -1.0);  // the cut's; -1 closes the spot
+  for (std::size_t l = 0; l < spots.size(); ++l) {
+    if (!oblong[l]) continue;
+    for (std::size_t k = 0; k < kRadii && radius[l] < 0.0; ++k) {
+      const SpotMoments& m = left[l][k];
+      if (m.w >= least_area && m.axis_ratio() >= rule.min_axis_ratio) radius[l] = radii[l][k];
+    }
+    ++(radius[l] < 0.0 ? result.closed : result.rounded);
+  }
+  for (std::size_t v = 0; v < label.size(); ++v) {
+    if (label[v] < 0 || !oblong[static_cast<std::size_t>(label[v])]) continue;
+    const auto l = static_cast<std::size_t>(label[v]);
+    phi[v] =
+        radius[l] < 0.0 ? -1.0 : cut(phi[v], radius[l], (band.closest_point(v) - spots[l].mean()).norm());
+  }
+  return result;
 }
 
 HoleStats hole_statistics(const NarrowBand& band, std::span<const double> phi, double level,

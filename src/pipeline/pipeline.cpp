@@ -257,8 +257,12 @@ PipelineResult run_pipeline(const Input& input, const PreparedInput& prepared, R
         return std::any_of(edges.begin(), edges.end(),
                            [&](const Segment& s) { return segment_distance(x, s) < reach; });
       };
-    result.closed_oblong_holes =
-        close_oblong_spots(band, phi, result.plan->level, kLeastSpotAxisRatio, notch);
+    const double mm = placed.mm_per_grid();
+    const OblongSpots oblong = round_oblong_spots(
+        band, phi, result.plan->level,
+        {kLeastSpotAxisRatio, result.plan->epsilon / mm, share * result.plan->diameter / mm}, notch);
+    result.closed_oblong_holes = oblong.closed;
+    result.rounded_oblong_holes = oblong.rounded;
     if (options.rim > 0.0 && !edges.empty())
       result.closed_rim_holes =
           close_spots_in_rim(band, phi, result.plan->level, edges, options.rim / placed.mm_per_grid());

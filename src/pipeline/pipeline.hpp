@@ -81,9 +81,10 @@ struct PipelineResult {
   StopRule stop_rule = StopRule::paper;  // the rule the run stopped by
   Layout layout = Layout::paper;         // the layout made (never automatic)
   std::int64_t layout_holes = 0;         // cvt: the discs the run started from
-  std::int64_t closed_oblong_holes = 0;
-  std::int64_t closed_rim_holes = 0;  // spots that would leave less than the rim asked, made solid  // spots
-                                      // under kLeastSpotAxisRatio, made solid (issue 51)
+  // Spots under kLeastSpotAxisRatio cut down to a round hole, or made solid where that left too little
+  // (issue 51).
+  std::int64_t rounded_oblong_holes = 0, closed_oblong_holes = 0;
+  std::int64_t closed_rim_holes = 0;    // spots that would leave less than the rim asked, made solid
   std::int64_t closed_small_holes = 0;  // spots under 0.76 (preview: 0.915) of the asked diameter, made solid
   RunResult run;                        // on this grid
   std::optional<CoarseLevel> coarse_start;  // the run on the pattern's grid before it, if any

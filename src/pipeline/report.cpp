@@ -122,9 +122,9 @@ Report make_report(const PipelineResult& r, const Options& options) {
   s.energy_first = r.run.energy_first;
   s.energy_last = r.run.energy_last;
   s.energy_trace = r.run.energy_trace;
-  report.pattern = {r.spots.count,      r.closed_small_holes,  r.spots.size_cv,
-                    r.spots.mean_size,  r.spots.area_fraction, r.spots.spacing_mean,
-                    r.spots.spacing_cv, r.closed_oblong_holes, r.closed_rim_holes};
+  report.pattern = {r.spots.count,          r.closed_small_holes, r.spots.size_cv,    r.spots.mean_size,
+                    r.spots.area_fraction,  r.spots.spacing_mean, r.spots.spacing_cv, r.closed_oblong_holes,
+                    r.rounded_oblong_holes, r.closed_rim_holes};
   for (const MeshOutput& m : r.meshes) report.outputs.push_back(level_report(m));
   const ZoneAreas& z = r.zone_areas;
   report.solid_zones = {z.surface, z.thin, z.creases, z.rims, z.keep_outs, z.solid};
