@@ -37,9 +37,10 @@ constexpr double kInputBytesPerTriangle = 300.0, kInputSecondsPerTriangle = 3.4e
 constexpr double kTrianglesPerShellCell = 4.8;  // per band voxel, times (h / shell spacing)^2
 // `max_triangles`: the reduction's cost per collapse (two triangles) and its structures per triangle of
 // the meshed shell, on top of the run (docs/benchmarks.md "Estimates", 2026-11-27: the CLI reduced
-// against unreduced, 2 cores, 5.8-7.6 us a collapse and 169 bytes a triangle on the bunny, 5.9-6.5 us
-// and 164 bytes on a sphere r 30 mm).
-constexpr double kSecondsPerCollapse = 7.0e-6, kReductionBytesPerTriangle = 170.0;
+// against unreduced, 2 cores, 169 bytes a triangle on the bunny, 164 on a sphere r 30 mm). Its placed
+// collapses (issue 49, 2026-11-29, the same way): the bunny 6 mm at 10 mm to 250,000 at 0.05 mm 26.2 s
+// against 5.75 s, 22 us a collapse; the sphere r 30 mm to 60,000 4.09 s against 0.54 s, 21 us.
+constexpr double kSecondsPerCollapse = 21.0e-6, kReductionBytesPerTriangle = 170.0;
 // The default reduction to `max_deviation` (issue 49): per triangle of the full isosurface, its time and
 // its structures, and the share of triangles it keeps. The demo bunny (8 mm holes at 14 mm graded, 2 mm
 // wall; 2,100,348 triangles), default against `max_deviation` 0 on a quiet 2-core machine: 6.99 s against
