@@ -358,8 +358,10 @@ TEST(MeshDecimate, PlacedCollapsesReachFewerTrianglesWithinTheSameBound) {
     for (const auto& t : m.triangles) out.triangles.push_back({t[0], t[1], t[2]});
     return out;
   };
-  for (const auto& [original, max_distance] :
-       {std::pair{torus(120, 40, 3.0, 1.0), 0.01}, std::pair{porous_shell(6), 0.05}}) {
+  for (const auto& shape : {std::pair{torus(120, 40, 3.0, 1.0), 0.01}, std::pair{porous_shell(6), 0.05}}) {
+    // Not a structured binding: clang 14's lambdas cannot capture one.
+    const TriangleMesh& original = shape.first;
+    const double max_distance = shape.second;
     const auto reduce = [&](DistanceRule rule, TriangleMesh& mesh) {
       mesh = original;
       DecimateOptions options{4, max_distance};
