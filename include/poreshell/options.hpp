@@ -161,6 +161,9 @@ struct Options {
   double min_part_fraction = 0.01;
   std::int64_t max_triangles = 0;  // reduce each output to at most this many triangles; 0: as meshed
   double max_deviation = 0.02;     // mm, bound on the reduction's distance from the full isosurface (0: none)
+  // Reduce as far as max_deviation allows by placed collapses: about 0.55 of the default's triangles for
+  // about six times the reduction's time (the way max_triangles always reduces).
+  bool lean = false;
 
   // The model, eq. (2.1), in the paper's frame (the grid's longest side is 1).
   double alpha = 1400.0;

@@ -399,7 +399,8 @@ def perforate(
       layout ('auto', 'paper' or 'cvt': docs/solver.md "Layout"), solver ('fast' or 'reference'),
       fast_tolerance, min_stabilisation, coarse_start (bool), inner ('gauss_seidel' or 'jacobi'),
       inner_tolerance, energy_every, point_route ('direct' or 'paper'), keep_out_mask (a vertex
-      field's name), max_triangles, max_deviation (mm), max_memory_gb, preview (bool: the pattern alone,
+      field's name), max_triangles, max_deviation (mm), lean (bool: fewer triangles within max_deviation
+      for several times the reduction's time), max_memory_gb, preview (bool: the pattern alone,
       painted on the input surface, in about a second; Output.pattern), scale (multiplies the input),
       thin_feature_ratio and crease_angle (parts kept solid), keep_fragments, min_part_fraction.
       An unknown keyword raises TypeError.

@@ -358,9 +358,10 @@ PipelineResult run_pipeline(const Input& input, const PreparedInput& prepared, R
     if (reducing) {
       const std::int64_t target = options.max_triangles > 0 ? options.max_triangles : 4;
       // As far as the bound allows: by the fans' bounds alone, one attempt that keeps the bound everywhere
-      // (mesh_decimate.hpp); to a count: by placed collapses, which reach about half the triangles for
-      // several times the time.
-      const DistanceRule rule = options.max_triangles > 0 ? DistanceRule::kPlaced : DistanceRule::kBoundOnly;
+      // (mesh_decimate.hpp); to a count, or `lean`: by placed collapses, which reach about half the
+      // triangles for several times the time.
+      const DistanceRule rule =
+          options.max_triangles > 0 || options.lean ? DistanceRule::kPlaced : DistanceRule::kBoundOnly;
       const DecimateOptions decimate{target, reduction_bound(options, result.solid.wall_mm),
                                      share.part(meshed, reduced), rule};
       if (options.max_triangles > 0) {

@@ -329,7 +329,7 @@ TEST_F(Cli, SmallRunWritesStlAndReport) {
   EXPECT_EQ(report["settings"]["max_steps"], 5);
   EXPECT_EQ(report["settings"]["seed"], 1);
   EXPECT_EQ(report["settings"]["offset"], "centered");
-  EXPECT_EQ(report["settings"].size(), 42u) << "a new option needs its line in settings_json";
+  EXPECT_EQ(report["settings"].size(), 43u) << "a new option needs its line in settings_json";
   EXPECT_TRUE(report["mesh"]["applied"]["rim_measured_mm"].is_null());  // a sphere has no boundary
 
   std::vector<std::string> names = files_in_work();

@@ -86,6 +86,25 @@ TEST(LeanMesh, OpenSleeveKeepsItsPartWithinTheBound) {
   expect_same_part_fewer_triangles(input, options, "sleeve r 20 x 40, 6 mm at 10 mm");
 }
 
+// `lean`: the placed collapses (placed_collapse.hpp) keep the same part within the same bound in fewer
+// triangles than the default's fan bounds.
+TEST(LeanMesh, LeanKeepsThePartInFewerTriangles) {
+  Options options;
+  options.hole_diameter = 6.0;
+  options.spacing = 10.0;
+  options.wall = 2.0;
+  options.threads = 2;
+  const Result usual = perforate(sphere(20.0), options);
+  options.lean = true;
+  expect_same_part_fewer_triangles(sphere(20.0), options, "sphere r 20, 6 mm at 10 mm, lean");
+  const Result lean = perforate(sphere(20.0), options);
+  std::printf("lean %lld against %lld triangles\n",
+              static_cast<long long>(lean.report.outputs[0].topology.triangles),
+              static_cast<long long>(usual.report.outputs[0].topology.triangles));
+  EXPECT_LT(static_cast<double>(lean.report.outputs[0].topology.triangles),
+            0.8 * static_cast<double>(usual.report.outputs[0].topology.triangles));
+}
+
 TEST(LeanMesh, SameMeshOnOneAndTwoThreads) {
   Options options;
   options.hole_diameter = 8.0;
