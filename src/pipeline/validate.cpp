@@ -109,6 +109,9 @@ void validate(const Options& c) {
   require(c.max_triangles == 0 || c.max_deviation > 0.0, "max_triangles",
           "`max_triangles` needs a `max_deviation` above 0 mm to reduce within: drop `max_deviation` 0 "
           "(default 0.02 mm) or `max_triangles`");
+  require(!c.lean || c.max_deviation > 0.0, "lean",
+          "`lean` reduces within `max_deviation`, which is 0 (the full isosurface): drop `max_deviation` 0 "
+          "(default 0.02 mm) or `lean`");
 }
 
 double choose_voxel_size(double asked, const PatternPlan& plan) {

@@ -189,6 +189,11 @@ TEST(Api, EveryOptionsErrorNamesTheOption) {
       {"grade", [](Options& o) { o.grade = Grade{}; }},
       {"max_triangles", [](Options& o) { o.max_triangles = 2; }},
       {"max_deviation", [](Options& o) { o.max_deviation = -1; }},
+      {"lean",
+       [](Options& o) {
+         o.lean = true;
+         o.max_deviation = 0;
+       }},
   };
   std::set<std::string> named;
   for (const auto& [option, spoil] : cases) {

@@ -104,4 +104,13 @@ TEST_F(ReductionCli, BudgetWithoutABoundIsRefusedBeforeTheRun) {
   EXPECT_FALSE(fs::exists(root_ / "out.stl"));
 }
 
+// --lean with no bound to reduce within would write the full isosurface it was asked to reduce.
+TEST_F(ReductionCli, LeanWithoutABoundIsRefusedBeforeTheRun) {
+  const Outcome o = run(kSmallRun + " --lean --max-deviation 0 -o out.stl");
+  EXPECT_NE(o.exit_code, 0);
+  EXPECT_NE(o.err.find("--lean"), std::string::npos) << o.err;
+  EXPECT_NE(o.err.find("max-deviation"), std::string::npos) << o.err;
+  EXPECT_FALSE(fs::exists(root_ / "out.stl"));
+}
+
 }  // namespace
