@@ -82,6 +82,8 @@ int main(int argc, char** argv) {
       under_10 += min_angle_sine_squared(mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]) <
                   sine_10 * sine_10;
     fmt::print("smallest angle {:.2f} deg, {} under 10 deg, ", least, under_10);
+    fmt::print("sampled reduced->full {:.4f} full->reduced {:.4f}, attempts {}, ",
+               result.sampled.reduced_to_full, result.sampled.full_to_reduced, result.attempts);
     fmt::print("collapses bounded {} checked {}, output hash {:x}\n", result.collapses.bounded,
                result.collapses.checked, hash);
   }
