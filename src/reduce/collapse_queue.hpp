@@ -35,6 +35,21 @@ struct Quadric {
   }
 };
 
+// Each vertex's quadric: the planes of its triangles, each weighted by the triangle's area. The sums
+// run in triangle order, so that they are the same on any thread count.
+inline std::vector<Quadric> vertex_quadrics(const TriangleMesh& mesh) {
+  std::vector<Quadric> quadric(mesh.vertices.size());
+  for (const auto& t : mesh.triangles) {
+    const Vec3 &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
+    const Vec3 n = (b - a).cross(c - a);
+    const double twice_area = n.norm();
+    const Vec3 unit = twice_area > 0.0 ? Vec3(n / twice_area) : Vec3::Zero();
+    const Quadric q = Quadric::plane(unit, -unit.dot(a), 0.5 * twice_area);
+    for (int k = 0; k < 3; ++k) quadric[static_cast<std::size_t>(t[k])] += q;
+  }
+  return quadric;
+}
+
 // The vertices waiting to collapse, least key first. Keys are errors rounded down to four octaves
 // (every fourth exponent of a non-negative double), ties by vertex: collapses within a factor of 16 of
 // each other go in vertex order, so that those in one part of the mesh go one after another, while its

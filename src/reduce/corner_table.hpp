@@ -5,14 +5,18 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstdint>
 #include <limits>
+#include <numeric>
 #include <stdexcept>
 #include <utility>
 #include <vector>
 
+#include "core/run_monitor.hpp"
 #include "geometry/mesh.hpp"
 #include "reduce/collapse_bounds.hpp"  // next_corner(), previous_corner()
+#include "reduce/edge_collapse.hpp"    // CollapsedMesh
 
 namespace poreshell {
 
@@ -162,6 +166,87 @@ class CornerTable {
         for (const std::int32_t c : around) candidate[static_cast<std::size_t>(vertex(next_corner(c)))] = 1;
       }
     return candidate;
+  }
+
+  // Parts for meshes from this many triangles (below, a reduction takes tens of milliseconds). 4
+  // parts took 12.5 s on the bunny's 1.5 M triangles on 2 cores, 2 and 8 parts 14.4 s (docs/benchmarks.md
+  // "Triangle reduction on flat arrays"); the count is fixed, not the thread count, so that the
+  // result is too.
+  static constexpr std::size_t kParallelTriangles = 10'000;
+  static constexpr int kParts = 4;
+
+  // A collapser's one run: collapses until at most `target` triangles are left or none passes its
+  // rules. A mesh of at least kParallelTriangles first runs kParts workers at once on slabs of equal
+  // vertex counts along its longest side (`points`), each to its share of the collapses; the same slabs
+  // whatever the thread count, so the same result. make_worker(part, questions) makes a worker for a part
+  // of about `questions` triangles; collapse_until(worker, quota, candidate, loop) runs it from the
+  // candidate vertices and returns how many triangles went. The last worker, owning every vertex, starts
+  // from the vertices along the cuts and those still in a part's queue (marked `left_in_queue`); the
+  // others failed every collapse on a fan that has not changed since, as in one run.
+  template <class MakeWorker, class CollapseUntil>
+  void run_in_parts(const std::vector<Vec3>& points, std::size_t target, char left_in_queue,
+                    CollapseCounts& counts, const StageProgress& progress, MakeWorker make_worker,
+                    CollapseUntil collapse_until) {
+    const std::size_t live = dead_.size();  // the collapser's one call: none is dead yet
+    if (live <= target) return;
+    LoopProgress loop(progress, (live - target) / 2);
+    std::vector<char> candidate(points.size(), 1);
+    if (live < kParallelTriangles) {
+      auto worker = make_worker(0, live);
+      collapse_until(worker, live - target, candidate, loop);
+      counts += worker.counts;
+      progress.check();
+      return;
+    }
+    const std::vector<std::size_t> share = split_into_parts(kParts, points);
+    std::vector<std::size_t> removed(kParts, 0);
+    std::vector<std::vector<std::int32_t>> queued(kParts);
+    std::vector<CollapseCounts> part_counts(kParts);
+    // Each thread that is free takes the next part: the parts' times differ by up to a third (the
+    // bunny's shell: 1.07-1.39 s), and parallel_for's halves alone would pair them as {0, 1} and
+    // {2, 3} whatever their times. A part's collapses are its own, so who runs it changes nothing.
+    std::atomic<int> next_part = 0;
+    tbb::parallel_for(0, kParts, [&](int) {
+      const int part = next_part++;
+      const auto p = static_cast<std::size_t>(part);
+      auto worker = make_worker(part, share[p]);
+      // Each part's share of the triangles to remove, a little short: the last worker then has
+      // enough left to bring the cuts, still at full resolution, down with the rest.
+      const auto quota = static_cast<std::size_t>(0.98 * static_cast<double>(live - target) *
+                                                  static_cast<double>(share[p]) / static_cast<double>(live));
+      removed[p] = collapse_until(worker, quota, candidate, loop);
+      queued[p] = worker.queue.vertices();
+      part_counts[p] = worker.counts;
+    });
+    candidate = along_cuts();
+    for (const auto& vertices : queued)
+      for (const std::int32_t v : vertices)
+        if (!candidate[static_cast<std::size_t>(v)]) candidate[static_cast<std::size_t>(v)] = left_in_queue;
+    std::fill(owner_.begin(), owner_.end(), 0);
+    const std::size_t all = std::accumulate(removed.begin(), removed.end(), std::size_t{0});
+    auto last = make_worker(0, live);
+    collapse_until(last, live - all > target ? live - all - target : 0, candidate, loop);
+    for (const CollapseCounts& c : part_counts) counts += c;
+    counts += last.counts;
+    progress.check();
+  }
+
+  // The live triangles in their order, and each carried point's carrier among them: the points that a
+  // triangle carries are a list from first_point[triangle] through next_point; those from `vertices`
+  // on are not vertices and are left out.
+  CollapsedMesh live_mesh(const std::vector<std::int32_t>& first_point,
+                          const std::vector<std::int32_t>& next_point, std::size_t vertices) const {
+    CollapsedMesh out;
+    out.carrier.assign(vertices, -1);
+    for (std::size_t f = 0; f < dead_.size(); ++f) {
+      if (dead_[f]) continue;
+      const auto index = static_cast<std::int32_t>(out.triangles.size());
+      for (std::int32_t p = first_point[f]; p >= 0; p = next_point[static_cast<std::size_t>(p)])
+        if (static_cast<std::size_t>(p) < vertices) out.carrier[static_cast<std::size_t>(p)] = index;
+      out.triangles.push_back(
+          {corners_[3 * f].vertex, corners_[3 * f + 1].vertex, corners_[3 * f + 2].vertex});
+    }
+    return out;
   }
 
   std::vector<Corner> corners_;

@@ -67,17 +67,7 @@ class Collapser : CornerTable {
           distance_bound_.assign(nf, 0.0);
           target_bound_.assign(nv, kUnbounded);
         },
-        [&] {
-          quadric_.resize(nv);
-          for (const auto& t : mesh.triangles) {
-            const Vec3 &a = points_[t[0]], &b = points_[t[1]], &c = points_[t[2]];
-            const Vec3 n = (b - a).cross(c - a);
-            const double twice_area = n.norm();
-            const Vec3 unit = twice_area > 0.0 ? Vec3(n / twice_area) : Vec3::Zero();
-            const Quadric q = Quadric::plane(unit, -unit.dot(a), 0.5 * twice_area);
-            for (int k = 0; k < 3; ++k) quadric_[static_cast<std::size_t>(t[k])] += q;
-          }
-        },
+        [&] { quadric_ = vertex_quadrics(mesh); },
         [&] {
           build_table(mesh, opposite);
           sine_.resize(nf);
@@ -91,80 +81,19 @@ class Collapser : CornerTable {
         });
   }
 
-  // Collapses until at most `target` triangles are left or none passes the rules. A mesh of at least
-  // kParallelTriangles first runs kParts workers at once on slabs of equal vertex counts along its
-  // longest side, each to its share of the collapses; the same slabs whatever the thread count, so
-  // the same result.
   void run(std::size_t target, CollapseCounts& counts, const StageProgress& progress) {
-    const std::size_t live = dead_.size();  // run() is the collapser's one call: none is dead yet
-    if (live <= target) return;
-    LoopProgress loop(progress, (live - target) / 2);
-    std::vector<char> candidate(points_.size(), 1);
-    if (live >= kParallelTriangles) {
-      const std::vector<std::size_t> share = split_into_parts(kParts, points_);
-      std::vector<std::size_t> removed(kParts, 0);
-      std::vector<std::vector<std::int32_t>> left(kParts);
-      std::vector<CollapseCounts> part_counts(kParts);
-      // Each thread that is free takes the next part: the parts' times differ by up to a third (the
-      // bunny's shell: 1.07-1.39 s), and parallel_for's halves alone would pair them as {0, 1} and
-      // {2, 3} whatever their times. A part's collapses are its own, so who runs it changes nothing.
-      std::atomic<int> next_part = 0;
-      tbb::parallel_for(0, kParts, [&](int) {
-        const int part = next_part++;
-        const auto p = static_cast<std::size_t>(part);
-        Worker worker(part, points_.size(), share[p]);
-        // Each part's share of the triangles to remove, a little short: the last worker then has
-        // enough left to bring the cuts, still at full resolution, down with the rest.
-        const auto quota =
-            static_cast<std::size_t>(0.98 * static_cast<double>(live - target) *
-                                     static_cast<double>(share[p]) / static_cast<double>(live));
-        removed[p] = collapse_until(worker, quota, candidate, loop);
-        left[p] = worker.queue.vertices();
-        part_counts[p] = worker.counts;
-      });
-      // The last worker tries the vertices along the cuts and those still in a part's queue; the
-      // others failed every collapse and stay out until a collapse next to them, as in one run. A part's
-      // vertex away from the cuts keeps what its part found: nothing around it has changed since.
-      candidate = along_cuts();
-      for (const auto& vertices : left)
-        for (const std::int32_t v : vertices)
-          if (!candidate[static_cast<std::size_t>(v)]) candidate[static_cast<std::size_t>(v)] = kAsLeft;
-      std::fill(owner_.begin(), owner_.end(), 0);
-      const std::size_t all = std::accumulate(removed.begin(), removed.end(), std::size_t{0});
-      Worker last(0, points_.size(), live);
-      collapse_until(last, live - all > target ? live - all - target : 0, candidate, loop);
-      for (const CollapseCounts& c : part_counts) counts += c;
-      counts += last.counts;
-    } else {
-      Worker worker(0, points_.size(), live);
-      collapse_until(worker, live - target, candidate, loop);
-      counts += worker.counts;
-    }
-    progress.check();
+    run_in_parts(
+        points_, target, kAsLeft, counts, progress,
+        [&](int part, std::size_t questions) { return Worker(part, points_.size(), questions); },
+        [&](Worker& w, std::size_t quota, const std::vector<char>& candidate, LoopProgress& loop) {
+          return collapse_until(w, quota, candidate, loop);
+        });
   }
 
-  CollapsedMesh result() const {
-    CollapsedMesh out;
-    out.carrier.assign(points_.size(), -1);
-    for (std::size_t f = 0; f < dead_.size(); ++f) {
-      if (dead_[f]) continue;
-      const auto index = static_cast<std::int32_t>(out.triangles.size());
-      for (std::int32_t p = first_point_[f]; p >= 0; p = next_point_[static_cast<std::size_t>(p)])
-        out.carrier[static_cast<std::size_t>(p)] = index;
-      out.triangles.push_back(
-          {corners_[3 * f].vertex, corners_[3 * f + 1].vertex, corners_[3 * f + 2].vertex});
-    }
-    return out;
-  }
+  CollapsedMesh result() const { return live_mesh(first_point_, next_point_, points_.size()); }
 
  private:
-  // Parts for meshes from this many triangles (below, a reduction takes tens of milliseconds). 4
-  // parts took 12.5 s on the bunny's 1.5 M triangles on 2 cores, 2 and 8 parts 14.4 s (docs/benchmarks.md
-  // "Triangle reduction on flat arrays"); the count is fixed, not the thread count, so that the
-  // result is too.
-  static constexpr std::size_t kParallelTriangles = 10'000;
   static constexpr char kAsLeft = 2;  // a candidate for the last worker with its part's rating
-  static constexpr int kParts = 4;
 
   // A triangle the collapse makes, its first corner where v0 was (now v1).
   using NewTriangle = std::array<std::int32_t, 3>;

@@ -57,23 +57,26 @@ Vec3 place(const Quadric& q, const Vec3& midpoint) {
 // a neighbour would need: those few go to closest_point_on_triangle()).
 struct Flat {
   Vec3 a, e0, e1, normal;
-  double d00, d01, d11, inverse;
+  double d00, d01, d11, det;
 
   static Flat of(const Vec3& a, const Vec3& b, const Vec3& c) {
-    Flat f{a, b - a, c - a, Vec3::Zero(), 0, 0, 0, 0};
-    f.normal = f.e0.cross(f.e1).stableNormalized();
+    return of(a, b, c, (b - a).cross(c - a).stableNormalized());
+  }
+  // With the unit normal known (the original triangles'): no square root, no division.
+  static Flat of(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& normal) {
+    Flat f{a, b - a, c - a, normal, 0, 0, 0, 0};
     f.d00 = f.e0.squaredNorm(), f.d01 = f.e0.dot(f.e1), f.d11 = f.e1.squaredNorm();
-    const double det = f.d00 * f.d11 - f.d01 * f.d01;
-    f.inverse = det > 0.0 ? 1.0 / det : 0.0;
+    f.det = f.d00 * f.d11 - f.d01 * f.d01;
     return f;
   }
   // 1: within `tolerance` over the triangle; 0: not; -1: within of its plane, its foot outside it.
+  // The foot's barycentric coordinates times det, so that no division is needed.
   int over(const Vec3& x, double tolerance) const {
     const Vec3 d = x - a;
     if (!(std::abs(normal.dot(d)) <= tolerance)) return 0;
     const double d20 = d.dot(e0), d21 = d.dot(e1);
-    const double u = (d11 * d20 - d01 * d21) * inverse, v = (d00 * d21 - d01 * d20) * inverse;
-    return u >= 0.0 && v >= 0.0 && u + v <= 1.0 && inverse > 0.0 ? 1 : -1;
+    const double u = d11 * d20 - d01 * d21, v = d00 * d21 - d01 * d20;
+    return det > 0.0 && u >= 0.0 && v >= 0.0 && u + v <= det ? 1 : -1;
   }
 };
 
@@ -103,17 +106,7 @@ class PlacedCollapser : CornerTable {
           target_.assign(nv, -1);
           target_point_.resize(nv);
         },
-        [&] {
-          quadric_.resize(nv);
-          for (const auto& t : mesh.triangles) {
-            const Vec3 &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
-            const Vec3 n = (b - a).cross(c - a);
-            const double twice_area = n.norm();
-            const Vec3 unit = twice_area > 0.0 ? Vec3(n / twice_area) : Vec3::Zero();
-            const Quadric q = Quadric::plane(unit, -unit.dot(a), 0.5 * twice_area);
-            for (int k = 0; k < 3; ++k) quadric_[static_cast<std::size_t>(t[k])] += q;
-          }
-        },
+        [&] { quadric_ = vertex_quadrics(mesh); },
         [&] {
           build_table(mesh, opposite);
           sine_.resize(nf);
@@ -133,68 +126,22 @@ class PlacedCollapser : CornerTable {
     });
   }
 
-  // As edge_collapse.cpp's run(): parts at once, then one worker over the cuts.
   void run(std::size_t target, CollapseCounts& counts, const StageProgress& progress) {
-    const std::size_t live = dead_.size();
-    if (live <= target) return;
-    LoopProgress loop(progress, (live - target) / 2);
-    std::vector<char> candidate(points_.size(), 1);
-    if (live >= kParallelTriangles) {
-      const std::vector<std::size_t> share = split_into_parts(kParts, points_);
-      std::vector<std::size_t> removed(kParts, 0);
-      std::vector<std::vector<std::int32_t>> left(kParts);  // still in a part's queue: it met its quota
-      std::vector<CollapseCounts> part_counts(kParts);
-      std::atomic<int> next_part = 0;
-      tbb::parallel_for(0, kParts, [&](int) {
-        const int part = next_part++;
-        const auto p = static_cast<std::size_t>(part);
-        Worker worker(part, points_.size());
-        const auto quota =
-            static_cast<std::size_t>(0.98 * static_cast<double>(live - target) *
-                                     static_cast<double>(share[p]) / static_cast<double>(live));
-        removed[p] = collapse_until(worker, quota, candidate, loop);
-        left[p] = worker.queue.vertices();
-        part_counts[p] = worker.counts;
-      });
-      // The last worker starts from the vertices along the cuts and their neighbours: a part's vertex
-      // away from them failed every collapse on a fan that has not changed since (or its part met its
-      // quota, and the last worker's own collapses rate it again once they come near).
-      candidate = along_cuts();
-      for (const auto& vertices : left)
-        for (const std::int32_t v : vertices) candidate[static_cast<std::size_t>(v)] = 1;
-      std::fill(owner_.begin(), owner_.end(), 0);
-      const std::size_t all = std::accumulate(removed.begin(), removed.end(), std::size_t{0});
-      Worker last(0, points_.size());
-      collapse_until(last, live - all > target ? live - all - target : 0, candidate, loop);
-      for (const CollapseCounts& c : part_counts) counts += c;
-      counts += last.counts;
-    } else {
-      Worker worker(0, points_.size());
-      collapse_until(worker, live - target, candidate, loop);
-      counts += worker.counts;
-    }
-    progress.check();
+    run_in_parts(
+        points_, target, 1, counts, progress,
+        [&](int part, std::size_t) { return Worker(part, points_.size()); },
+        [&](Worker& w, std::size_t quota, const std::vector<char>& candidate, LoopProgress& loop) {
+          return collapse_until(w, quota, candidate, loop);
+        });
   }
 
   CollapsedMesh result() const {
-    CollapsedMesh out;
-    out.carrier.assign(points_.size(), -1);
-    for (std::size_t f = 0; f < dead_.size(); ++f) {
-      if (dead_[f]) continue;
-      const auto index = static_cast<std::int32_t>(out.triangles.size());
-      for (std::int32_t p = first_point_[f]; p >= 0; p = next_point_[static_cast<std::size_t>(p)])
-        if (static_cast<std::size_t>(p) < points_.size()) out.carrier[static_cast<std::size_t>(p)] = index;
-      out.triangles.push_back(
-          {corners_[3 * f].vertex, corners_[3 * f + 1].vertex, corners_[3 * f + 2].vertex});
-    }
+    CollapsedMesh out = live_mesh(first_point_, next_point_, points_.size());
     out.positions = points_;
     return out;
   }
 
  private:
-  static constexpr std::size_t kParallelTriangles = 10'000;
-  static constexpr int kParts = 4;
-
   // A triangle of the new fan: the new vertex, then b and d; `old` the triangle it replaces.
   struct RingTriangle {
     std::int32_t b, d, old;
@@ -211,7 +158,6 @@ class PlacedCollapser : CornerTable {
     std::vector<std::tuple<double, std::int32_t, std::int32_t>> candidates;  // (error, v1, corner)
     std::vector<Vec3> placed;                                                // per candidate
     std::vector<RingTriangle> ring;
-    std::vector<Vec3> ring_normal;  // unit
     std::vector<Flat> ring_flat;
     // Original triangles under the old fan (their centroids are carried), by the ring triangle their
     // centroid is near: those of ring triangle r from bucket[r] to bucket[r + 1].
@@ -331,7 +277,6 @@ class PlacedCollapser : CornerTable {
     for (const std::int32_t k : w.fan1) before = std::min(before, sine_[static_cast<std::size_t>(k / 3)]);
     const double least = std::min(min_sine_squared_, before);
     w.ring.clear();
-    w.ring_normal.clear();
     w.ring_flat.clear();
     for (const auto* fan : {&w.fan0, &w.fan1})
       for (const std::int32_t k : *fan) {
@@ -344,7 +289,6 @@ class PlacedCollapser : CornerTable {
         for (const std::int32_t x : {v0, v1, b, d})
           if (original_.normal(x).dot(n) < facing) return false;
         w.ring.push_back({b, d, k / 3, classify_triangle(p, pb, pd)});
-        w.ring_normal.push_back(n.normalized());
         w.ring_flat.push_back(Flat::of(p, pb, pd));
       }
     return true;
@@ -421,7 +365,7 @@ class PlacedCollapser : CornerTable {
         if (std::abs(original_normal_[f].dot(x - a)) > tolerance_) continue;
         const Vec3& b = samples_[static_cast<std::size_t>(t[1])];
         const Vec3& d = samples_[static_cast<std::size_t>(t[2])];
-        const int over = Flat::of(a, b, d).over(x, tolerance_);
+        const int over = Flat::of(a, b, d, original_normal_[f]).over(x, tolerance_);
         if (over == 1 ||
             (over < 0 &&
              (closest_point_on_triangle(x, a, b, d, original_shape_[f]) - x).squaredNorm() <= tolerance2)) {
@@ -475,12 +419,12 @@ class PlacedCollapser : CornerTable {
 
     fan(v1, w.fan_new);
     w.ring.clear();
-    w.ring_normal.clear();
+    w.ring_flat.clear();
     for (const std::int32_t k : w.fan_new) {
       const std::int32_t bb = vertex(next_corner(k)), d = vertex(previous_corner(k));
       sine_[static_cast<std::size_t>(k / 3)] = min_angle_sine_squared(p, point(bb), point(d));
       w.ring.push_back({bb, d, k / 3, classify_triangle(p, point(bb), point(d))});
-      w.ring_normal.push_back((point(bb) - p).cross(point(d) - p).stableNormalized());
+      w.ring_flat.push_back(Flat::of(p, point(bb), point(d)));
     }
     // Each to its nearest new triangle, the first in fan order among equals.
     for (const std::int32_t q : w.moved) {
@@ -488,7 +432,7 @@ class PlacedCollapser : CornerTable {
       double best = std::numeric_limits<double>::infinity();
       std::size_t nearest = 0;
       for (std::size_t i = 0; i < w.ring.size(); ++i) {
-        const double plane = w.ring_normal[i].dot(x - p);
+        const double plane = w.ring_flat[i].normal.dot(x - p);
         if (plane * plane > best * (1.0 + 1e-9)) continue;
         if (const double d2 = ring_distance2(w, i, p, x); d2 < best) {
           best = d2;
