@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "poreshell/option_table.hpp"
+#include "poreshell/viewer.hpp"
 
 namespace fs = std::filesystem;
 

@@ -69,7 +69,7 @@
         input.placeholder = d === null || d === undefined || (typeof d === 'number' && !isFinite(d)) ? 'auto' : String(d);
       }
       input.id = 'opt-' + name;
-      input.title = (o.help || '') + (o.max > o.min ? ` (${o.min_open ? '>' : '≥'} ${o.min}, ≤ ${o.max})` : '');
+      input.title = (o.help || '') + (o.max > o.min ? ` (${o.min_open ? '>' : '≥'} ${o.min}, ${o.max_open ? '<' : '≤'} ${o.max})` : '');
       const unit = document.createElement('span');
       unit.className = 'unit';
       unit.textContent = o.unit || '';

@@ -81,6 +81,7 @@ nlohmann::json option_table_json() {
                      {"min", o.min},
                      {"max", o.max},
                      {"min_open", o.min_open},
+                     {"max_open", o.max_open},
                      {"help", o.help},
                      {"choices", o.choices}});
   }

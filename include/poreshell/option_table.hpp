@@ -42,8 +42,9 @@ struct OptionInfo {
   std::string_view group;  // holes, model, solid, zones, output, solver, run
   OptionType type = OptionType::number;
   std::string_view unit;        // "mm", "degrees", "GB", ... or empty
-  double min = 0.0, max = 0.0;  // numbers, integers: the valid range, inclusive
+  double min = 0.0, max = 0.0;  // numbers, integers: the valid range, its ends included unless open
   bool min_open = false;        // the range excludes min itself (> rather than >=)
+  bool max_open = false;        // the range excludes max itself (< rather than <=)
   std::string_view help;        // one line, for --help, the studio's fields
   std::string_view choices;     // choice: the names, comma separated
   // 0, the default, means "not given" (the hole map's lengths, the wall, ...): a flag gives more.

@@ -21,6 +21,7 @@
 #include "poreshell/options.hpp"
 #include "poreshell/progress.hpp"
 #include "poreshell/result.hpp"
+#include "poreshell/viewer.hpp"
 
 namespace poreshell {
 

@@ -7,11 +7,14 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <string>
 #include <type_traits>
+#include <variant>
 #include <vector>
 
 #include "core/error.hpp"
 #include "io/option_json.hpp"
+#include "io/option_range.hpp"
 #include "poreshell/option_table.hpp"
 
 namespace poreshell {
@@ -20,31 +23,20 @@ namespace {
 using nlohmann::json;
 
 constexpr double kNoLimit = std::numeric_limits<double>::infinity();
+// 2^53: every integer up to it is exact as a double; the integers' "no limit" (a bound past it is not
+// worth a reader's time).
+constexpr double kIntMax = 9007199254740992.0;
 
 [[noreturn]] void refuse(const OptionInfo& info, const std::string& what, const json& value) {
   throw OptionError(std::string(info.name),
                     fmt::format("`{}` must be {}; got {}", info.name, what, value.dump()));
 }
 
-// "a number in mm, at least 0", "a whole number from 9 to 2048", "true or false", ...
-std::string expected(const OptionInfo& info) {
-  std::string text = info.type == OptionType::integer ? "a whole number" : "a number";
-  if (!info.unit.empty()) text += fmt::format(" in {}", info.unit);
-  const bool low = info.min > -kNoLimit, high = info.max < kNoLimit;
-  if (low && high)
-    text += info.min_open ? fmt::format(", between {:g} and {:g}", info.min, info.max)
-                          : fmt::format(", from {:g} to {:g}", info.min, info.max);
-  else if (low)
-    text += fmt::format(", {} {:g}", info.min_open ? "above" : "at least", info.min);
-  return text;
-}
-
 double number(const OptionInfo& info, const json& v) {
   const bool integral = info.type == OptionType::integer;
   if (!v.is_number() || (integral && !v.is_number_integer())) refuse(info, expected(info), v);
   const double x = v.get<double>();
-  const bool in_range = std::isfinite(x) && (info.min_open ? x > info.min : x >= info.min) && x <= info.max;
-  if (!in_range) refuse(info, expected(info), v);
+  if (!in_range(info, x)) refuse(info, expected(info), v);
   return x;
 }
 
@@ -252,12 +244,13 @@ OptionInfo entry(std::string_view name, std::string_view group, OptionType type,
   return info;
 }
 OptionInfo real(std::string_view name, std::string_view group, std::string_view unit, double min, double max,
-                Min kind, std::string_view help) {
+                Min kind, std::string_view help, bool max_open = false) {
   OptionInfo info = entry(name, group, OptionType::number, help);
   info.unit = unit;
   info.min = min;
   info.max = max;
   info.min_open = kind == Min::open;
+  info.max_open = max_open;
   info.zero_unset = kind == Min::unset;
   return info;
 }
@@ -279,15 +272,15 @@ OptionInfo levels(std::string_view name, std::string_view group, double min, dou
   OptionInfo info = entry(name, group, OptionType::numbers, help);
   info.min = min;
   info.max = max;
-  info.min_open = true;
+  info.min_open = info.max_open = true;
   return info;
 }
 
-// The ranges are what a JSON value must meet. validate() checks the same bounds on every Options,
-// however made, with messages that say why; the CLI's flags check only the sign (command_line.cpp).
+// The ranges are what a JSON value must meet and what validate() checks on every Options, however made
+// (check_range); the CLI's flags check only the sign (command_line.cpp).
 const std::vector<Row>& rows() {
   constexpr Min open = Min::open, closed = Min::closed, unset = Min::unset;
-  constexpr double kIntMax = 9007199254740992.0;  // 2^53: every integer up to it is exact as a double
+  constexpr bool below_max = true;  // real()'s last argument: the range excludes its max
   static const std::vector<Row> table = {
       row<&Options::scale>(
           real("scale", "holes", "", 0, kNoLimit, open,
@@ -330,8 +323,8 @@ const std::vector<Row>& rows() {
           {"--thin-features", "RATIO",
            "no hole where the part is thinner than this many hole diameters (ears, fingers); 0: off"}),
       row<&Options::crease_angle>(
-          real("crease_angle", "zones", "degrees", 0, 179.999, closed,
-               "no hole within half a hole of a sharper edge; 0: off"),
+          real("crease_angle", "zones", "degrees", 0, 180, closed,
+               "no hole within half a hole of a sharper edge; 0: off", below_max),
           {"--crease-angle", "DEG",
            "no hole within half a hole of an edge sharper than this (degrees); 0: off"}),
       row<&Options::keep_out>(
@@ -353,7 +346,7 @@ const std::vector<Row>& rows() {
                 "keep specks and sealed voids instead of removing them"),
           {"--keep-fragments", "",
            "keep specks and sealed voids under 1% of the largest part's volume (removed by default)"}),
-      row<&Options::min_part_fraction>(real("min_part_fraction", "output", "", 0, 0.999999, closed,
+      row<&Options::min_part_fraction>(real("min_part_fraction", "output", "", 0, 1, closed,
                                             "parts and voids under this share of the largest are removed")),
       row<&Options::max_triangles>(whole("max_triangles", "output", 0, kIntMax,
                                          "reduce each output to at most this many; 0: no count"),
@@ -387,7 +380,7 @@ const std::vector<Row>& rows() {
                           "isosurface level(s) φ = C of the narrow volume, comma-separated or repeated "
                           "(paper: 0.3, 0, -0.3)"}),
       row<&Options::phi_bar>(
-          real("phi_bar", "model", "", -1, 1, closed, "mean of phi (the solid share)"),
+          real("phi_bar", "model", "", -1, 1, open, "mean of phi (the solid share)", below_max),
           {"--phi-bar", "F", "mean concentration φ̄ in eq. (2.1), sets the pore fraction (paper: -0.3)"}),
       // After the model rows they replace: the CLI adds flags in this order, and CLI11 names the first
       // flag given in a clash ("--alpha excludes --hole-diameter").
@@ -486,6 +479,50 @@ const std::vector<Row>& rows() {
 }
 
 }  // namespace
+
+bool in_range(const OptionInfo& info, double x) {
+  return std::isfinite(x) && (info.min_open ? x > info.min : x >= info.min) &&
+         (info.max_open ? x < info.max : x <= info.max);
+}
+
+std::string expected(const OptionInfo& info) {
+  std::string text = info.type == OptionType::integer   ? "a whole number"
+                     : info.type == OptionType::numbers ? "numbers"
+                                                        : "a number";
+  if (!info.unit.empty()) text += fmt::format(" in {}", info.unit);
+  const bool low = info.min > -kNoLimit, high = info.max < kIntMax;
+  const auto from = [&] { return fmt::format("{} {:g}", info.min_open ? "above" : "at least", info.min); };
+  const auto to = [&] { return fmt::format("{} {:g}", info.max_open ? "below" : "at most", info.max); };
+  if (low && high && info.min_open == info.max_open)
+    text += info.min_open ? fmt::format(", strictly between {:g} and {:g}", info.min, info.max)
+                          : fmt::format(", from {:g} to {:g}", info.min, info.max);
+  else if (low && high)
+    text += ", " + from() + " and " + to();
+  else if (low)
+    text += ", " + from();
+  return text;
+}
+
+void check_range(const OptionInfo& info, const Options& options) {
+  if (info.type != OptionType::number && info.type != OptionType::integer && info.type != OptionType::numbers)
+    return;
+  const auto check = [&](double x, double default_value) {
+    if (std::isnan(x) && std::isnan(default_value)) return;
+    if (in_range(info, x)) return;
+    throw OptionError(std::string(info.name),
+                      fmt::format("`{}` must be {}; got {:g} ({})", info.name, expected(info), x, info.help));
+  };
+  std::visit(
+      [&](auto member) {
+        using T = std::remove_cvref_t<decltype(options.*member)>;
+        if constexpr (std::is_same_v<T, std::vector<double>>) {
+          for (const double x : options.*member) check(x, 0.0);
+        } else if constexpr (std::is_arithmetic_v<T>) {
+          check(static_cast<double>(options.*member), static_cast<double>(Options{}.*member));
+        }
+      },
+      info.field);
+}
 
 std::span<const OptionInfo> option_table() {
   static const std::vector<OptionInfo> infos = [] {

@@ -102,33 +102,33 @@ Grade parse_grade(const std::string& raw) {
   return g;
 }
 
-std::function<double(const Vec3&)> graded_diameter(const GradeSpec& spec, const Box& bounds, double base,
+std::function<double(const Vec3&)> graded_diameter(const Grade& grade, const Box& bounds, double base,
                                                    std::function<double(const Vec3&)> field) {
   const auto blend = [](double a, double b, double t) { return a + std::clamp(t, 0.0, 1.0) * (b - a); };
-  switch (spec.kind) {
-    case GradeSpec::Kind::axis: {
-      const double lo = bounds.min[spec.axis], extent = bounds.max[spec.axis] - lo;
-      return [=](const Vec3& x) {
-        return blend(spec.from_diameter, spec.to_diameter, extent > 0.0 ? (x[spec.axis] - lo) / extent : 0.0);
-      };
+  // The lambdas capture these, not the Grade with its name string.
+  const Vec3 from = vec(grade.from), to = vec(grade.to);
+  const double d0 = grade.from_diameter, d1 = grade.to_diameter, radius = grade.radius;
+  const int axis = grade.axis;
+  switch (grade.kind) {
+    case Grade::Kind::axis: {
+      const double lo = bounds.min[axis], extent = bounds.max[axis] - lo;
+      return [=](const Vec3& x) { return blend(d0, d1, extent > 0.0 ? (x[axis] - lo) / extent : 0.0); };
     }
-    case GradeSpec::Kind::line: {
-      const Vec3 u = spec.to - spec.from;
-      return [=](const Vec3& x) {
-        return blend(spec.from_diameter, spec.to_diameter, (x - spec.from).dot(u) / u.squaredNorm());
-      };
+    case Grade::Kind::line: {
+      const Vec3 u = to - from;
+      return [=](const Vec3& x) { return blend(d0, d1, (x - from).dot(u) / u.squaredNorm()); };
     }
-    case GradeSpec::Kind::radial:
+    case Grade::Kind::radial:
       return [=](const Vec3& x) {
-        const double t = std::clamp((x - spec.from).norm() / spec.radius, 0.0, 1.0);
-        return blend(spec.from_diameter, base, t * t * (3.0 - 2.0 * t));  // smoothstep: no kink at R
+        const double t = std::clamp((x - from).norm() / radius, 0.0, 1.0);
+        return blend(d0, base, t * t * (3.0 - 2.0 * t));  // smoothstep: no kink at R
       };
-    case GradeSpec::Kind::field:
+    case Grade::Kind::field:
       if (!field)
-        throw OptionError("grade", "`grade` field:" + text::quote(spec.property) +
+        throw OptionError("grade", "`grade` field:" + text::quote(grade.field) +
                                        " needs a PLY mesh with that vertex property");
-      if (!spec.mapped) return field;
-      return [=](const Vec3& x) { return blend(spec.from_diameter, spec.to_diameter, field(x)); };
+      if (!grade.mapped) return field;
+      return [=](const Vec3& x) { return blend(d0, d1, field(x)); };
   }
   return [base](const Vec3&) { return base; };
 }
@@ -165,25 +165,7 @@ GradingSummary apply_grading(std::span<double> phi, std::span<const Vec3> positi
   return s;
 }
 
-GradeSpec to_grade_spec(const Grade& g) {
-  GradeSpec s;
-  s.kind = g.kind;
-  s.axis = g.axis;
-  s.from = vec(g.from);
-  s.to = vec(g.to);
-  s.from_diameter = g.from_diameter;
-  s.to_diameter = g.to_diameter;
-  s.radius = g.radius;
-  s.property = g.field;
-  s.mapped = g.mapped;
-  return s;
-}
-
-GradeSpec parse_grade_spec(const std::string& text) {
-  return to_grade_spec(parse_grade(text));
-}
-
-GradingSummary grade_holes(const GradeSpec& grade, const std::function<double(const Vec3&)>& field,
+GradingSummary grade_holes(const Grade& grade, const std::function<double(const Vec3&)>& field,
                            const PlacedSurface& placed, const NarrowBand& band, const PatternPlan& plan,
                            std::vector<double>& phi, const LevelForRatio& level_for_ratio) {
   Box bounds{Vec3::Constant(std::numeric_limits<double>::infinity()),

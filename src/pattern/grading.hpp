@@ -22,26 +22,12 @@
 
 namespace poreshell {
 
-// The public Grade (include/poreshell/options.hpp) in the stage's terms: points as Vec3 for the
-// geometry below. Grade is the one that is parsed and stored; to_grade_spec is the one conversion.
-struct GradeSpec {
-  using Kind = Grade::Kind;
-  Kind kind = Kind::axis;
-  Vec3 from = Vec3::Zero(), to = Vec3::Zero();    // line: the two points; radial: the centre in `from`
-  int axis = 2;                                   // axis: 0, 1, 2 for x, y, z
-  double from_diameter = 0.0, to_diameter = 0.0;  // axis, line, field (mapped); radial: from_diameter
-  double radius = 0.0;                            // radial
-  std::string property;                           // field
-  bool mapped = false;                            // field: values 0..1 mapped to from..to diameters
-};
+// The grading is the public Grade (include/poreshell/options.hpp), parsed by parse_grade, which throws
+// OptionError naming the accepted forms.
 
-GradeSpec to_grade_spec(const Grade& grade);
-// parse_grade (the public parser) in the stage's terms; throws OptionError naming the accepted forms.
-GradeSpec parse_grade_spec(const std::string& text);
-
-// The target diameter at a point (mm), for a spec over a model with bounds `bounds` and a base
-// diameter (the request's); `field` evaluates the PLY property at a point (field specs only).
-std::function<double(const Vec3&)> graded_diameter(const GradeSpec& spec, const Box& bounds, double base,
+// The target diameter at a point (mm), for a grading over a model with bounds `bounds` and a base
+// diameter (the request's); `field` evaluates the PLY property at a point (field gradings only).
+std::function<double(const Vec3&)> graded_diameter(const Grade& grade, const Box& bounds, double base,
                                                    std::function<double(const Vec3&)> field = {});
 
 struct GradingSummary {
@@ -67,8 +53,8 @@ GradingSummary apply_grading(std::span<double> phi, std::span<const Vec3> positi
                              const LevelForRatio& level_for_ratio = level_for_diameter_ratio);
 
 // Grades the pattern on the band: phi shifted per voxel so that {phi > plan.level} has the graded holes.
-// `field` evaluates the named vertex field at a point in mm (field specs only).
-GradingSummary grade_holes(const GradeSpec& grade, const std::function<double(const Vec3&)>& field,
+// `field` evaluates the named vertex field at a point in mm (field gradings only).
+GradingSummary grade_holes(const Grade& grade, const std::function<double(const Vec3&)>& field,
                            const PlacedSurface& placed, const NarrowBand& band, const PatternPlan& plan,
                            std::vector<double>& phi,
                            const LevelForRatio& level_for_ratio = level_for_diameter_ratio);

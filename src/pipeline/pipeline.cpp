@@ -194,11 +194,10 @@ PipelineResult run_pipeline(const Input& input, const PreparedInput& prepared, R
   result.solid.wall_mm = wall.mm;
   result.solid.wall_source = wall.source;
   check_reduction(options, result.solid.wall_mm);
-  const std::optional<GradeSpec> grade =
-      options.grade ? std::optional<GradeSpec>(to_grade_spec(*options.grade)) : std::nullopt;
+  const std::optional<Grade>& grade = options.grade;
   std::function<double(const Vec3&)> grade_field, mask;
-  if (grade && grade->kind == GradeSpec::Kind::field)
-    grade_field = input_vertex_field(input, grade->property, "grade");
+  if (grade && grade->kind == Grade::Kind::field)
+    grade_field = input_vertex_field(input, grade->field, "grade");
   if (!options.keep_out_mask.empty())
     mask = input_vertex_field(input, options.keep_out_mask, "keep_out_mask");
   if (result.plan) result.zone_areas = zone_areas(options, placed, features, mask);

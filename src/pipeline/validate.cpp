@@ -5,12 +5,11 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
-#include <string_view>
-#include <utility>
 
 #include "band/band.hpp"
 #include "core/error.hpp"
-#include "solver/model.hpp"
+#include "io/option_range.hpp"
+#include "poreshell/option_table.hpp"
 
 namespace poreshell {
 namespace {
@@ -35,23 +34,11 @@ std::string mm(double x) {
 }  // namespace
 
 void validate(const Options& c) {
-  require(c.scale > 0.0 && finite(c.scale), "scale", "`scale` must be a positive factor (1: as given)");
-  require(c.resolution >= 9, "resolution",
-          "`resolution` must be at least 9 grid points along the longest side");
-  require(c.resolution <= 2048, "resolution", "`resolution` above 2048 is not supported");
-  require(c.voxel_size >= 0.0 && finite(c.voxel_size), "voxel_size",
-          "`voxel_size` must be a positive length in millimetres");
-  require(c.wall >= 0.0 && finite(c.wall), "wall",
-          "`wall` must be a positive thickness in millimetres (0: the default)");
+  // Each option alone: its range is its row's in the option table.
+  for (const OptionInfo& info : option_table()) check_range(info, c);
+  // The rest: what a range cannot say, and options against each other.
   require(c.mode == Mode::shell || (c.wall == 0.0 && c.offset == WallOffset::centered), "wall",
           "`wall` and `offset` shape the shell: use them with `mode` shell");
-  require(c.max_memory_gb >= 0.0 && finite(c.max_memory_gb), "max_memory_gb",
-          "`max_memory_gb` must be a positive number of GB");
-  require(std::isnan(c.rim) || (c.rim >= 0.0 && finite(c.rim)), "rim", "`rim` must be a width >= 0 in mm");
-  require(c.thin_feature_ratio >= 0.0 && finite(c.thin_feature_ratio), "thin_feature_ratio",
-          "`thin_feature_ratio` must be >= 0 (a share of the hole diameter; 0: off)");
-  require(c.crease_angle >= 0.0 && c.crease_angle < 180.0, "crease_angle",
-          "`crease_angle` must be in degrees, 0 (off) to below 180");
   for (const KeepOutSphere& k : c.keep_out)
     require(k.radius > 0.0 && finite(k.centre[0] + k.centre[1] + k.centre[2] + k.radius), "keep_out",
             "`keep_out` takes X,Y,Z,R in mm with a radius R > 0");
@@ -64,48 +51,19 @@ void validate(const Options& c) {
       c.rim > 0.0 || !c.keep_out.empty() || !c.keep_out_boxes.empty() || !c.keep_out_mask.empty();
   require(!zones || c.solver == SolverKind::fast, "solver",
           "`rim` and `keep_out` act through the fast solver: use `solver` fast");
-  require(c.epsilon_m > 0.0 && finite(c.epsilon_m), "epsilon_m",
-          "`epsilon_m` must be positive (the paper uses 4)");
-  require(c.tolerance > 0.0 && finite(c.tolerance), "tolerance",
-          "`tolerance` must be positive (the paper uses 1e-3)");
-  require(c.fast_tolerance > 0.0 && finite(c.fast_tolerance), "fast_tolerance",
-          "`fast_tolerance` must be positive");
-  require(c.inner_tolerance > 0.0 && finite(c.inner_tolerance), "inner_tolerance",
-          "`inner_tolerance` must be positive");
-  require(c.min_stabilisation >= 0.0 && finite(c.min_stabilisation), "min_stabilisation",
-          "`min_stabilisation` must be >= 0");
-  require(c.max_steps >= 1, "max_steps", "`max_steps` must be at least 1");
-  require(c.energy_every >= 0, "energy_every", "`energy_every` must be >= 0 (0 turns the energy off)");
-  require(c.initial_amplitude >= 0.0 && finite(c.initial_amplitude), "initial_amplitude",
-          "`initial_amplitude` must be >= 0");
-  require(c.threads >= 0 && c.threads <= 4096, "threads",
-          "`threads` must lie between 0 (all cores) and 4096");
   require(!c.iso.empty(), "iso", "give at least one `iso` level");
-  for (std::size_t i = 0; i < c.iso.size(); ++i) {
-    require(c.iso[i] > -1.0 && c.iso[i] < 1.0, "iso", "`iso` levels must lie strictly between -1 and 1");
+  for (std::size_t i = 0; i < c.iso.size(); ++i)
     for (std::size_t j = 0; j < i; ++j)
       require(c.iso[j] != c.iso[i], "iso", "`iso` lists the same level twice");
-  }
-  // The model's own checks (epsilon is set from the grid later; any positive value passes here).
-  validate(ModelParameters{c.alpha, 1.0, c.phi_bar}, c.dt_h);
-  // Each named for itself (issue 48: a bad `spacing` was reported as `hole_diameter`).
-  for (const auto& [x, name] : {std::pair{c.hole_diameter, "hole_diameter"}, std::pair{c.spacing, "spacing"},
-                                std::pair{c.porosity, "porosity"}})
-    require(x >= 0.0 && finite(x), name,
-            fmt::format("`{}` must be a positive number{} (0: not given)", name,
-                        std::string_view(name) == "porosity" ? "" : " in mm"));
   const bool holes = c.hole_diameter > 0.0 || c.spacing > 0.0 || c.porosity > 0.0;
   require(!c.grade || holes, "grade",
           "`grade` sets hole diameters in mm: add `hole_diameter` MM (and `spacing` MM or `porosity` F)");
   require(c.layout != Layout::cvt || holes, "layout",
           "`layout` cvt places holes at the spacing asked in mm: add `hole_diameter` MM (and `spacing` MM "
           "or `porosity` F), or use `layout` paper");
-  require(c.min_part_fraction >= 0.0 && c.min_part_fraction < 1.0, "min_part_fraction",
-          "`min_part_fraction` must be a share of the largest part's volume in [0, 1)");
+  // Fewer than a tetrahedron's four is no closed mesh; 0 sits apart from the range (no count).
   require(c.max_triangles == 0 || c.max_triangles >= 4, "max_triangles",
           "`max_triangles` must be at least 4 (0: keep every triangle)");
-  require(c.max_deviation >= 0.0 && finite(c.max_deviation), "max_deviation",
-          "`max_deviation` must be a length in mm, at least 0 (0: the full isosurface, no reduction)");
   require(c.max_triangles == 0 || c.max_deviation > 0.0, "max_triangles",
           "`max_triangles` needs a `max_deviation` above 0 mm to reduce within: drop `max_deviation` 0 "
           "(default 0.02 mm) or `max_triangles`");

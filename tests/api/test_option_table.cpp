@@ -5,9 +5,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <set>
+#include <sstream>
 #include <string>
+#include <type_traits>
+#include <variant>
+#include <vector>
 
 #include "poreshell/error.hpp"
 #include "poreshell/option_table.hpp"
@@ -144,6 +149,73 @@ TEST(OptionTable, ValidationNamesEachHoleLength) {
       EXPECT_EQ(e.option(), name);
     }
   }
+}
+
+// Sets the row's field to x (a list of one for the pore levels); false where its type cannot hold x
+// exactly (a seed of -1) or the row holds no number.
+bool set_number(Options& o, const OptionInfo& info, double x) {
+  return std::visit(
+      [&](auto member) {
+        using T = std::remove_cvref_t<decltype(o.*member)>;
+        if constexpr (std::is_same_v<T, std::vector<double>>) {
+          o.*member = {x};
+          return true;
+        } else if constexpr (std::is_floating_point_v<T>) {
+          o.*member = x;
+          return true;
+        } else if constexpr (std::is_integral_v<T> && !std::is_same_v<T, bool>) {
+          // Only ends below 2^53 are tried, so that these bounds are exact as doubles.
+          if (x < static_cast<double>(std::numeric_limits<T>::min()) ||
+              x > static_cast<double>(std::numeric_limits<T>::max()))
+            return false;
+          o.*member = static_cast<T>(x);
+          return true;
+        } else {
+          return false;
+        }
+      },
+      info.field);
+}
+
+// Every finite end of every row's range, from the table: a value just outside is refused by validate()
+// naming that option, and one just inside passes (validate() is no stricter than the table that the
+// studio and the JSON read). Just outside a closed end is the next double, or the next integer; an open
+// end is itself outside.
+TEST(OptionTable, ValidateRefusesJustOutsideEachRangeAndTakesJustInside) {
+  constexpr double kExact = 9007199254740992.0;  // 2^53
+  int ends = 0;
+  for (const OptionInfo& info : option_table()) {
+    if (info.type != OptionType::number && info.type != OptionType::integer &&
+        info.type != OptionType::numbers)
+      continue;
+    const bool integral = info.type == OptionType::integer;
+    for (const int side : {-1, 1}) {
+      const double end = side < 0 ? info.min : info.max;
+      const bool open = side < 0 ? info.min_open : info.max_open;
+      if (!std::isfinite(end) || std::abs(end) >= kExact) continue;
+      const double step = side * std::numeric_limits<double>::infinity();
+      const double outside = open ? end : integral ? end + side : std::nextafter(end, step);
+      const double inside = !open ? end : integral ? end - side : std::nextafter(end, -step);
+      std::ostringstream what_text;
+      what_text << info.name << (side < 0 ? " below " : " above ") << end;
+      const std::string what = what_text.str();
+      Options bad;
+      if (!set_number(bad, info, outside)) continue;
+      ++ends;
+      try {
+        validate(bad);
+        ADD_FAILURE() << what << ": " << outside << " was accepted";
+      } catch (const Error& e) {
+        EXPECT_EQ(e.option(), info.name) << what << ": " << e.what();
+        EXPECT_NE(std::string(e.what()).find("`" + std::string(info.name) + "`"), std::string::npos)
+            << e.what();
+      }
+      Options good;
+      ASSERT_TRUE(set_number(good, info, inside)) << what;
+      EXPECT_NO_THROW(validate(good)) << what << ": " << inside << " was refused";
+    }
+  }
+  EXPECT_GE(ends, 30) << "the ranged rows' ends";
 }
 
 }  // namespace

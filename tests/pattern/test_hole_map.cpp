@@ -87,46 +87,46 @@ TEST(HoleMap, RefusesImpossibleRequestsNamingTheNearestFeasible) {
 }
 
 TEST(Grading, ParsesEveryFormAndRefusesTheRest) {
-  const GradeSpec axis = parse_grade_spec("axis:z:4:8");
-  EXPECT_EQ(axis.kind, GradeSpec::Kind::axis);
+  const Grade axis = parse_grade("axis:z:4:8");
+  EXPECT_EQ(axis.kind, Grade::Kind::axis);
   EXPECT_EQ(axis.axis, 2);
   EXPECT_DOUBLE_EQ(axis.to_diameter, 8.0);
-  const GradeSpec line = parse_grade_spec("line:0,0,0:4:10,0,0:8");
-  EXPECT_EQ(line.kind, GradeSpec::Kind::line);
-  EXPECT_DOUBLE_EQ(line.to.x(), 10.0);
-  const GradeSpec radial = parse_grade_spec("radial:1,2,3:20:7");
-  EXPECT_EQ(radial.kind, GradeSpec::Kind::radial);
+  const Grade line = parse_grade("line:0,0,0:4:10,0,0:8");
+  EXPECT_EQ(line.kind, Grade::Kind::line);
+  EXPECT_DOUBLE_EQ(line.to[0], 10.0);
+  const Grade radial = parse_grade("radial:1,2,3:20:7");
+  EXPECT_EQ(radial.kind, Grade::Kind::radial);
   EXPECT_DOUBLE_EQ(radial.radius, 20.0);
-  const GradeSpec field = parse_grade_spec("field:quality:4:8");
+  const Grade field = parse_grade("field:quality:4:8");
   EXPECT_TRUE(field.mapped);
-  EXPECT_EQ(field.property, "quality");
-  EXPECT_FALSE(parse_grade_spec("field:hole_mm").mapped);
+  EXPECT_EQ(field.field, "quality");
+  EXPECT_FALSE(parse_grade("field:hole_mm").mapped);
   for (const char* bad :
        {"", "axis:w:4:8", "axis:z:4", "axis:z:-4:8", "line:0,0:4:1,0,0:8", "line:0,0,0:4:0,0,0:8",
         "radial:0,0,0:0:5", "radial:0,0,0:x:5", "field:", "spiral:1"})
-    EXPECT_THROW(parse_grade_spec(bad), OptionError) << bad;
+    EXPECT_THROW(parse_grade(bad), OptionError) << bad;
 }
 
 TEST(Grading, DiametersFollowTheSpecAndAreClampedToPrintableHoles) {
   const Box bounds{Vec3(0, 0, 0), Vec3(10, 10, 100)};
-  const auto axis = graded_diameter(parse_grade_spec("axis:z:4:8"), bounds, 6.0);
+  const auto axis = graded_diameter(parse_grade("axis:z:4:8"), bounds, 6.0);
   EXPECT_DOUBLE_EQ(axis(Vec3(5, 5, 0)), 4.0);
   EXPECT_DOUBLE_EQ(axis(Vec3(5, 5, 50)), 6.0);
   EXPECT_DOUBLE_EQ(axis(Vec3(5, 5, 100)), 8.0);
-  const auto line = graded_diameter(parse_grade_spec("line:0,0,0:4:10,0,0:8"), bounds, 6.0);
+  const auto line = graded_diameter(parse_grade("line:0,0,0:4:10,0,0:8"), bounds, 6.0);
   EXPECT_DOUBLE_EQ(line(Vec3(-5, 3, 0)), 4.0);  // constant beyond the ends
   EXPECT_DOUBLE_EQ(line(Vec3(5, 3, 7)), 6.0);
-  const auto radial = graded_diameter(parse_grade_spec("radial:0,0,0:10:8"), bounds, 6.0);
+  const auto radial = graded_diameter(parse_grade("radial:0,0,0:10:8"), bounds, 6.0);
   EXPECT_DOUBLE_EQ(radial(Vec3::Zero()), 8.0);
   EXPECT_DOUBLE_EQ(radial(Vec3(0, 10, 0)), 6.0);
   EXPECT_DOUBLE_EQ(radial(Vec3(0, 5, 0)), 7.0);
-  EXPECT_THROW(graded_diameter(parse_grade_spec("field:q"), bounds, 6.0), OptionError);  // no field given
+  EXPECT_THROW(graded_diameter(parse_grade("field:q"), bounds, 6.0), OptionError);  // no field given
 
   // At spacing 10 the printable range is [3.5, 8] mm: a 9 mm request is clamped, and a larger hole is a
   // lower local level, i.e. phi raised.
   std::vector<double> phi{0.0, 0.0, 0.0};
   const std::vector<Vec3> at{Vec3(0, 0, 0), Vec3(0, 0, 50), Vec3(0, 0, 100)};
-  const auto wide = graded_diameter(parse_grade_spec("axis:z:6:9"), bounds, 6.0);
+  const auto wide = graded_diameter(parse_grade("axis:z:6:9"), bounds, 6.0);
   const GradingSummary s = apply_grading(phi, at, 10.0, level_for_diameter_ratio(0.6), wide);
   EXPECT_NEAR(phi[0], 0.0, 1e-12);
   EXPECT_GT(phi[1], 0.0);

@@ -1,7 +1,8 @@
 #pragma once
 // The interactive viewer: one self-contained HTML file (three.js, the page's script and the data all
 // inside it; it opens from file:// with no network), and its rendering to a PNG by headless Chromium.
-// The page's source is viewer/ (see viewer/README.md); it is embedded in the library at build time.
+// The page's source is viewer/ (see viewer/README.md); it is embedded in the viewer library
+// (src/viewer/CMakeLists.txt) at build time.
 
 #include <cstddef>
 #include <filesystem>

@@ -15,9 +15,9 @@
 #include <Eigen/Geometry>
 
 #include "core/error.hpp"
-#include "io/display_mesh.hpp"
-#include "io/html_viewer.hpp"
 #include "test_meshes.hpp"
+#include "viewer/display_mesh.hpp"
+#include "viewer/html_viewer.hpp"
 #include "viewer_test_data.hpp"
 
 namespace poreshell {

@@ -1,4 +1,4 @@
-#include "io/display_mesh.hpp"
+#include "viewer/display_mesh.hpp"
 
 #include <algorithm>
 #include <array>

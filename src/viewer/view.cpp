@@ -1,4 +1,4 @@
-// The public API's viewer (include/poreshell/io.hpp): the result in the viewer's terms.
+// The public API's viewer (include/poreshell/viewer.hpp): the result in the viewer's terms.
 
 #include <span>
 #include <string>
@@ -6,12 +6,13 @@
 
 #include "core/error.hpp"
 #include "input/placement.hpp"
-#include "io/display_mesh.hpp"
 #include "io/file_format.hpp"
-#include "io/html_viewer.hpp"
 #include "io/report_json.hpp"
 #include "pattern/solid_zones.hpp"
 #include "poreshell/io.hpp"
+#include "poreshell/viewer.hpp"
+#include "viewer/display_mesh.hpp"
+#include "viewer/html_viewer.hpp"
 
 namespace poreshell {
 namespace {

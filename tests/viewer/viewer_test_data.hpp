@@ -7,7 +7,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "io/html_viewer.hpp"
+#include "viewer/html_viewer.hpp"
 
 namespace poreshell::testing {
 

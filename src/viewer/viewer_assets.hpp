@@ -1,5 +1,5 @@
 #pragma once
-// The viewer page's parts, embedded at build time (cmake/EmbedFiles.cmake; see src/CMakeLists.txt):
+// The viewer page's parts, embedded at build time (cmake/EmbedFiles.cmake; see src/viewer/CMakeLists.txt):
 // viewer/ of this repository and three.js r111 with its OrbitControls from Debian's libjs-three.
 
 #include <string_view>

@@ -1,4 +1,4 @@
-#include "io/html_viewer.hpp"
+#include "viewer/html_viewer.hpp"
 
 #include <fcntl.h>
 #include <signal.h>
@@ -23,8 +23,8 @@
 
 #include "core/error.hpp"
 #include "io/atomic_file.hpp"
-#include "io/viewer_assets.hpp"
 #include "poreshell/base64.hpp"
+#include "viewer/viewer_assets.hpp"
 
 extern char** environ;
 
