@@ -50,10 +50,6 @@ Point point(const std::string& text, const std::string& whole) {
   return {number(xyz[0], whole), number(xyz[1], whole), number(xyz[2], whole)};
 }
 
-Vec3 vec(const Point& p) {
-  return {p[0], p[1], p[2]};
-}
-
 }  // namespace
 
 Grade parse_grade(const std::string& raw) {

@@ -197,7 +197,6 @@ ZoneAreas zone_areas(const Options& c, const PlacedSurface& placed, const Featur
   if (!placed.mesh) return areas;
   const TriangleMesh& mesh = *placed.mesh;
   const double mm = placed.mm_per_grid(), grid_per_mm = 1.0 / mm;
-  const auto vec = [](const Point& p) { return Vec3(p[0], p[1], p[2]); };
   std::vector<Vec3> centroid(mesh.triangles.size());
   std::vector<double> area(mesh.triangles.size());
   for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {

@@ -6,13 +6,6 @@
 #include "pattern/solid_zones.hpp"
 
 namespace poreshell {
-namespace {
-
-Vec3 vec(const Point& p) {
-  return {p[0], p[1], p[2]};
-}
-
-}  // namespace
 
 // Holes x boundary segments, brute force: a few hundred holes by a few thousand segments is a few
 // milliseconds, beside seconds of meshing.

@@ -17,10 +17,6 @@
 namespace poreshell {
 namespace {
 
-Vec3 vec(const Point& p) {
-  return {p[0], p[1], p[2]};
-}
-
 // The open boundary of a mesh input, in mm, as two-point lines.
 std::vector<std::vector<Vec3>> boundary_lines(const Input* input) {
   const auto* mesh = input ? std::get_if<MeshInput>(input) : nullptr;
