@@ -1,6 +1,8 @@
 #pragma once
 // Indexed triangle mesh and the topology checks a printable output must pass.
 
+#include <Eigen/Geometry>  // cross()
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -33,6 +35,21 @@ struct MeshTopology {
 
 using Triangle = std::array<std::int32_t, 3>;
 using Edge = std::array<std::int32_t, 2>;
+
+// Square of the sine of the smallest angle, (2 area * shortest edge / (product of the edges))^2: 0 for
+// a degenerate triangle, 3/4 for an equilateral one, whatever the scale. Squared and inline, it needs
+// no root and no call: the reduction asks it for every triangle it would make, the isosurface for every
+// triangle it makes. `cross` is
+// (b - a) x (c - a), where the caller has it already.
+inline double min_angle_sine_squared(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& cross) {
+  const double ab = (b - a).squaredNorm(), bc = (c - b).squaredNorm(), ca = (a - c).squaredNorm();
+  const double product = ab * bc * ca;
+  if (!(product > 0.0)) return 0.0;
+  return cross.squaredNorm() * std::min({ab, bc, ca}) / product;
+}
+inline double min_angle_sine_squared(const Vec3& a, const Vec3& b, const Vec3& c) {
+  return min_angle_sine_squared(a, b, c, (b - a).cross(c - a));
+}
 
 // The degenerate-triangle rule (a repeated vertex index, or zero area), one for the input's cleaning, the
 // topology check, the closest-point search and the decimater.

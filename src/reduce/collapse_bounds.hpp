@@ -2,7 +2,6 @@
 // What the edge collapses of the triangle reduction (edge_collapse.hpp) are measured against: the
 // original surface, as a corner table and as the test "is this point within the tolerance of it".
 
-#include <Eigen/Geometry>  // cross()
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -29,20 +28,6 @@ inline std::int32_t previous_corner(std::int32_t c) {
 std::vector<std::int32_t> opposite_corners(const TriangleMesh& mesh, const VertexTriangles& around);
 inline std::vector<std::int32_t> opposite_corners(const TriangleMesh& mesh) {
   return opposite_corners(mesh, vertex_triangles(mesh.vertices.size(), mesh.triangles));
-}
-
-// Square of the sine of the smallest angle, (2 area * shortest edge / (product of the edges))^2: 0 for
-// a degenerate triangle, 3/4 for an equilateral one, whatever the scale. Squared and inline, it needs
-// no root and no call: the reduction asks it for every triangle it would make. `cross` is
-// (b - a) x (c - a), where the caller has it already.
-inline double min_angle_sine_squared(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& cross) {
-  const double ab = (b - a).squaredNorm(), bc = (c - b).squaredNorm(), ca = (a - c).squaredNorm();
-  const double product = ab * bc * ca;
-  if (!(product > 0.0)) return 0.0;
-  return cross.squaredNorm() * std::min({ab, bc, ca}) / product;
-}
-inline double min_angle_sine_squared(const Vec3& a, const Vec3& b, const Vec3& c) {
-  return min_angle_sine_squared(a, b, c, (b - a).cross(c - a));
 }
 
 // The original surface as the checks need it: vertex normals, and how near a point is. Every point

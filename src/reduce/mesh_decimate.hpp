@@ -20,8 +20,8 @@ namespace poreshell {
 // attempt that keeps the bound everywhere, where the checked collapses overshoot between their points and
 // are redone with a smaller tolerance (there 45 s against 14 s). kPlaced moves the vertex a collapse keeps
 // to where the quadrics are least and measures each collapse against the original directly
-// (placed_collapse.hpp): at 0.02 mm the demo bunny's 2.1 M triangles go to 479 k where kBoundOnly leaves
-// 879 k, the sphere r 50 mm's (6 mm holes at 10 mm) 1.15 M to 255 k against 430 k, for about five times
+// (placed_collapse.hpp): at 0.02 mm the demo bunny's 2.1 M triangles go to 376 k where kBoundOnly leaves
+// 724 k, the sphere r 50 mm's (6 mm holes at 10 mm) 1.15 M to 202 k against 339 k, for about five times
 // the processor time (docs/benchmarks.md "Placed collapses").
 enum class DistanceRule { kBoundOrCheck, kCheckOnly, kBoundOnly, kPlaced };
 
