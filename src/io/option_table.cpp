@@ -518,7 +518,8 @@ void check_range(const OptionInfo& info, const Options& options) {
         if constexpr (std::is_same_v<T, std::vector<double>>) {
           for (const double x : options.*member) check(x, 0.0);
         } else if constexpr (std::is_arithmetic_v<T>) {
-          check(static_cast<double>(options.*member), static_cast<double>(Options{}.*member));
+          static const Options defaults;
+          check(static_cast<double>(options.*member), static_cast<double>(defaults.*member));
         }
       },
       info.field);

@@ -14,13 +14,11 @@
 
 #include <Eigen/Geometry>  // cross()
 #include <algorithm>
-#include <atomic>
 #include <bit>
 #include <cmath>
 #include <limits>
 #include <memory>
 #include <numbers>
-#include <numeric>
 #include <stdexcept>
 #include <tuple>
 

@@ -18,11 +18,9 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <numeric>
 #include <stdexcept>
 #include <tuple>
 
@@ -72,11 +70,15 @@ struct Flat {
   // 1: within `tolerance` over the triangle; 0: not; -1: within of its plane, its foot outside it.
   // The foot's barycentric coordinates times det, so that no division is needed.
   int over(const Vec3& x, double tolerance) const {
+    if (!(std::abs(normal.dot(x - a)) <= tolerance)) return 0;
+    return foot_inside(x) ? 1 : -1;
+  }
+  // Whether x's foot on the plane lies inside the triangle.
+  bool foot_inside(const Vec3& x) const {
     const Vec3 d = x - a;
-    if (!(std::abs(normal.dot(d)) <= tolerance)) return 0;
     const double d20 = d.dot(e0), d21 = d.dot(e1);
     const double u = d11 * d20 - d01 * d21, v = d00 * d21 - d01 * d20;
-    return det > 0.0 && u >= 0.0 && v >= 0.0 && u + v <= det ? 1 : -1;
+    return det > 0.0 && u >= 0.0 && v >= 0.0 && u + v <= det;
   }
 };
 
@@ -365,10 +367,9 @@ class PlacedCollapser : CornerTable {
         if (std::abs(original_normal_[f].dot(x - a)) > tolerance_) continue;
         const Vec3& b = samples_[static_cast<std::size_t>(t[1])];
         const Vec3& d = samples_[static_cast<std::size_t>(t[2])];
-        const int over = Flat::of(a, b, d, original_normal_[f]).over(x, tolerance_);
-        if (over == 1 ||
-            (over < 0 &&
-             (closest_point_on_triangle(x, a, b, d, original_shape_[f]) - x).squaredNorm() <= tolerance2)) {
+        // Within of the plane (tested above): over the triangle, or near its nearest point.
+        if (Flat::of(a, b, d, original_normal_[f]).foot_inside(x) ||
+            (closest_point_on_triangle(x, a, b, d, original_shape_[f]) - x).squaredNorm() <= tolerance2) {
           hit = at;
           return true;
         }
