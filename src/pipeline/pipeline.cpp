@@ -20,6 +20,7 @@
 #include "pattern/grading.hpp"
 #include "pattern/layout.hpp"
 #include "pattern/solid_zones.hpp"
+#include "pattern/spot_rules.hpp"
 #include "pipeline/run_cost.hpp"
 #include "pipeline/validate.hpp"
 #include "shell/narrow_volume.hpp"
@@ -28,24 +29,6 @@
 
 namespace poreshell {
 namespace {
-
-// Holes narrower than this share of the asked diameter are made solid (issue 19: none under 0.7). On
-// the scans at 6 mm holes at 10 mm they are the few the equation squeezed next to a solid zone (fandisk
-// 6 of 435, Spot 1 of 493, the bunny 1 of 422), 2.9-4.2 mm wide.
-constexpr double kLeastHoleShare = 0.7;
-// The spots are measured by their area on the band's voxels, the holes by their loop on the mesh, which
-// comes out smaller for small holes: mesh over band diameter 0.92-1.03 on the bunny, 0.85-1.03 on its
-// points (ratio under 0.92 only for spots over 5 mm; seeds 1-2, 6 mm holes at 10 mm). So a spot is
-// closed below 0.7 D / 0.92 by its area, for the mesh's loops to keep 0.7 D.
-constexpr double kBandToMeshDiameter = 0.92;
-// A preview that does not run the equation shows the even layout's discs as placed. One whose band area
-// is under this share of the asked diameter lies where another sheet within the band's reach (the
-// bunny's base: two faces a millimetre apart) takes part of its footprint, and the run closes it.
-// Preview discs against the full run's holes, same seed (docs/solver.md "Layout"): on the bunny, 8 mm
-// at 14 mm, seeds 1-5, 8 of the 10 discs the run closed were under 0.915 D (0.86-0.897), the least
-// kept 0.924; 6 mm at 10 mm, seeds 1-4, all 8 under it closed (0.822-0.911), the least kept 0.965; the
-// sphere's and the sleeve's discs are all 0.966 D or more, and kept.
-constexpr double kPreviewLeastHoleShare = 0.915;
 
 // The process's peak resident set so far (Linux reports kilobytes).
 std::size_t peak_rss_bytes() {
@@ -126,6 +109,39 @@ void preview_output(double level, const Options& options, const PlacedSurface& p
   result.solid.spacing_mm = band.grid().h() * placed.mm_per_grid();
   result.meshes.push_back(std::move(out));
   result.seconds_mesh = seconds_since(t);
+}
+
+// The output reduced within `max_deviation` (issue 49): as far as the bound allows by the fans' bounds
+// alone, one attempt that keeps the bound everywhere (mesh_decimate.hpp); to a count, or `lean`, by
+// placed collapses, which reach about half the triangles for several times the time.
+void reduce_output(MeshOutput& out, const Options& options, double wall_mm, const StageProgress& progress) {
+  const std::int64_t target = options.max_triangles > 0 ? options.max_triangles : 4;
+  const DistanceRule rule =
+      options.max_triangles > 0 || options.lean ? DistanceRule::kPlaced : DistanceRule::kBoundOnly;
+  const DecimateOptions decimate{target, reduction_bound(options, wall_mm), progress, rule};
+  if (options.max_triangles > 0) {
+    out.reduction = decimate_mesh(out.mesh, decimate);
+  } else {
+    // The default's reduction is an economy, never a reason to fail a run: where its result fails a
+    // check (a std::runtime_error, the mesh left as it was), the full isosurface is written.
+    try {
+      out.reduction = decimate_mesh(out.mesh, decimate);
+    } catch (const Error&) {
+      throw;  // cancelled, or bad input: as anywhere else
+    } catch (const std::runtime_error& failed) {
+      out.reduction.reset();
+      out.reduction_skipped = failed.what();  // said in the report's warnings: never silently
+    }
+  }
+  // A budget is a promise to the printer or the viewer downstream: not met, nothing is written.
+  if (options.max_triangles > 0 && !out.reduction->reached_target)
+    throw OptionError(
+        "max_triangles",
+        fmt::format("`max_triangles` {} cannot be met within `max_deviation` {:g} mm: the reduction "
+                    "stopped at {} triangles, the fewest it reaches within that bound; ask for at least "
+                    "{}, or allow a larger `max_deviation` (at most a quarter of the wall, {:g} mm)",
+                    options.max_triangles, reduction_bound(options, wall_mm), out.reduction->triangles_after,
+                    out.reduction->triangles_after, rounded_down(0.25 * wall_mm)));
 }
 
 }  // namespace
@@ -240,31 +256,15 @@ PipelineResult run_pipeline(const Input& input, const PreparedInput& prepared, R
   result.layout = solved.layout;
   result.layout_holes = solved.layout_holes;
   std::vector<double> phi = std::move(solved.phi);
-  // A preview closes these too, and the discs the run would close (kPreviewLeastHoleShare); a surface
+  // A preview closes these too, and the discs the run would close (spot_rules.cpp); a surface
   // layer (band_options) also shows slivers of a disc's edge where it is a voxel thin.
   const bool unevolved = options.preview && result.run.steps == 0;  // the even layout's discs as placed
   if (result.plan) {
-    const double share = unevolved ? kPreviewLeastHoleShare : kLeastHoleShare / kBandToMeshDiameter;
-    result.closed_small_holes = close_small_spots(band, phi, result.plan->level,
-                                                  share * result.plan->diameter / placed.mm_per_grid());
-    const std::vector<Segment> edges =
-        placed.open_mesh() ? boundary_segments(*placed.mesh) : std::vector<Segment>{};
-    // `rim` 0 allows notches: a spot within a hole of the open boundary keeps its shape.
-    std::function<bool(const Vec3&)> notch;
-    if (options.rim == 0.0 && !edges.empty())
-      notch = [&edges, reach = result.plan->diameter / placed.mm_per_grid()](const Vec3& x) {
-        return std::any_of(edges.begin(), edges.end(),
-                           [&](const Segment& s) { return segment_distance(x, s) < reach; });
-      };
-    const double mm = placed.mm_per_grid();
-    const OblongSpots oblong = round_oblong_spots(
-        band, phi, result.plan->level,
-        {kLeastSpotAxisRatio, result.plan->epsilon / mm, share * result.plan->diameter / mm}, notch);
-    result.closed_oblong_holes = oblong.closed;
-    result.rounded_oblong_holes = oblong.rounded;
-    if (options.rim > 0.0 && !edges.empty())
-      result.closed_rim_holes =
-          close_spots_in_rim(band, phi, result.plan->level, edges, options.rim / placed.mm_per_grid());
+    const SpotRuleCounts fixed = apply_spot_rules(band, phi, *result.plan, placed, options.rim, unevolved);
+    result.closed_small_holes = fixed.closed_small;
+    result.rounded_oblong_holes = fixed.rounded_oblong;
+    result.closed_oblong_holes = fixed.closed_oblong;
+    result.closed_rim_holes = fixed.closed_in_rim;
   }
   result.spots = spot_statistics(band, phi, 0.0);
   // Before a preview's output too, so that it shows the sizes asked where they are asked: on the layout's
@@ -354,40 +354,7 @@ PipelineResult run_pipeline(const Input& input, const PreparedInput& prepared, R
     const std::int64_t wall_voids =
         shell_mode ? wall_voids_euler(out.parts, wall_solid, [&](const Vec3& p) { return placed.from_mm(p); })
                    : 0;
-    if (reducing) {
-      const std::int64_t target = options.max_triangles > 0 ? options.max_triangles : 4;
-      // As far as the bound allows: by the fans' bounds alone, one attempt that keeps the bound everywhere
-      // (mesh_decimate.hpp); to a count, or `lean`: by placed collapses, which reach about half the
-      // triangles for several times the time.
-      const DistanceRule rule =
-          options.max_triangles > 0 || options.lean ? DistanceRule::kPlaced : DistanceRule::kBoundOnly;
-      const DecimateOptions decimate{target, reduction_bound(options, result.solid.wall_mm),
-                                     share.part(meshed, reduced), rule};
-      if (options.max_triangles > 0) {
-        out.reduction = decimate_mesh(out.mesh, decimate);
-      } else {
-        // The default's reduction is an economy, never a reason to fail a run: where its result fails a
-        // check (a std::runtime_error, the mesh left as it was), the full isosurface is written.
-        try {
-          out.reduction = decimate_mesh(out.mesh, decimate);
-        } catch (const Error&) {
-          throw;  // cancelled, or bad input: as anywhere else
-        } catch (const std::runtime_error& failed) {
-          out.reduction.reset();
-          out.reduction_skipped = failed.what();  // said in the report's warnings: never silently
-        }
-      }
-      // A budget is a promise to the printer or the viewer downstream: not met, nothing is written.
-      if (options.max_triangles > 0 && !out.reduction->reached_target)
-        throw OptionError(
-            "max_triangles",
-            fmt::format("`max_triangles` {} cannot be met within `max_deviation` {:g} mm: the reduction "
-                        "stopped at {} triangles, the fewest it reaches within that bound; ask for at least "
-                        "{}, or allow a larger `max_deviation` (at most a quarter of the wall, {:g} mm)",
-                        options.max_triangles, reduction_bound(options, result.solid.wall_mm),
-                        out.reduction->triangles_after, out.reduction->triangles_after,
-                        rounded_down(0.25 * result.solid.wall_mm)));
-    }
+    if (reducing) reduce_output(out, options, result.solid.wall_mm, share.part(meshed, reduced));
     // A reduction checked its result already.
     out.topology = out.reduction && out.reduction->topology
                        ? *out.reduction->topology
