@@ -279,6 +279,147 @@ Grid covering_grid(const Surface& surface, double h) {
 // bunny (unsigned, renormalisation off, +-4.5 voxels, closest-polygon index grid): 0.64-0.68 s at N = 131
 // against 0.8 s for this whole stage, and 5.8-7.5 s at N = 830 against 20-27 s (docs/benchmarks.md,
 // search "meshToVolume"). No gain at the paper's grid, so no dependency; the lever for large grids.
+// build_band's steps, each writing the band's own arrays.
+class BandBuilder {
+ public:
+  BandBuilder(NarrowBand& band, const NearField& near, const Surface& surface, const BandOptions& options)
+      : band_(band), near_(near), surface_(surface), grid_(band.grid_), options_(options) {}
+
+  // The voxels of `keys` (ascending) and their neighbour table; none on the grid's edge.
+  void take_voxels(const std::vector<std::int64_t>& keys) {
+    band_.keys_ = keys;
+    band_.voxels_.resize(keys.size());
+    for (std::size_t v = 0; v < keys.size(); ++v) band_.voxels_[v] = grid_.coord(keys[v]);
+    const auto& d = grid_.dims();
+    if (std::any_of(band_.voxels_.begin(), band_.voxels_.end(), [&](const Coord& c) {
+          return c.i <= 0 || c.j <= 0 || c.k <= 0 || c.i >= d[0] - 1 || c.j >= d[1] - 1 || c.k >= d[2] - 1;
+        }))
+      throw InputError("the narrow band touches the edge of the grid: enlarge the domain or add padding");
+    band_neighbours(band_.keys_, grid_, band_.neighbors_);
+  }
+
+  // Closure: every corner of every ghost's interpolation cell must be a band voxel. Corners are within
+  // sqrt(3) h of the surface, so for a true distance function the rule already holds; add the rare
+  // exceptions (curved level sets with |grad_h psi| < 1) and rebuild the ghosts.
+  void close_ghost_stencils(std::vector<std::int64_t>& keys, const StageProgress& progress) {
+    for (int round = 0;; ++round) {
+      const StageProgress round_progress = progress.part(0.6 + 0.02 * round, 0.8 + 0.02 * round);
+      round_progress.check();
+      take_voxels(keys);
+      round_progress.advance(0.2);
+      const std::vector<std::int64_t> added = stencil_corners_missing(round_progress);
+      if (added.empty()) return;
+      if (round == 8) throw std::runtime_error("narrow band closure did not settle after 8 rounds");
+      band_.stats_.closure_added += static_cast<std::int64_t>(added.size());
+      keys.insert(keys.end(), added.begin(), added.end());
+      std::sort(keys.begin(), keys.end());
+    }
+  }
+
+  // The neighbour table's ghost entries (band indices from the last round; ghosts by their parity's key
+  // order), and the paper's ghost count.
+  void link_ghosts() {
+    const auto n = static_cast<std::int64_t>(band_.voxels_.size());
+    tbb::parallel_for(std::size_t{0}, band_.voxels_.size(), [&](std::size_t v) {
+      for (int o = 0; o < NarrowBand::kNeighbors; ++o) {
+        std::int32_t& idx = band_.neighbors_[v * NarrowBand::kNeighbors + static_cast<std::size_t>(o)];
+        if (idx >= 0) continue;
+        const Coord nb = shifted(band_.voxels_[v], kFaceOffsets[static_cast<std::size_t>(o)]);
+        const auto [begin, end] = band_.ghosts_of_parity(parity(nb));
+        const auto first = band_.ghosts_.begin() + static_cast<std::ptrdiff_t>(begin);
+        const auto it =
+            std::lower_bound(first, band_.ghosts_.begin() + static_cast<std::ptrdiff_t>(end), grid_.key(nb),
+                             [&](const Coord& a, std::int64_t b) { return grid_.key(a) < b; });
+        idx = static_cast<std::int32_t>(n + (it - band_.ghosts_.begin()));
+      }
+    });
+    // The paper's ghost set is { I |grad_h I| != 0 }: ghosts with an unbalanced band neighbour pair. A
+    // ghost's band neighbours are the voxels whose neighbour entries point at it (direction o from the
+    // voxel is o ^ 1 from the ghost): one pass over the table, not 6 searches per ghost.
+    std::vector<std::uint8_t> band_sides(band_.ghosts_.size(), 0);  // bit o: the neighbour in direction o
+    for (std::size_t e = 0; e < band_.neighbors_.size(); ++e)
+      if (band_.neighbors_[e] >= n)
+        band_sides[static_cast<std::size_t>(band_.neighbors_[e] - n)] |=
+            static_cast<std::uint8_t>(1u << ((e % NarrowBand::kNeighbors) ^ 1));
+    band_.stats_.paper_ghosts = std::count_if(band_sides.begin(), band_sides.end(), [](std::uint8_t sides) {
+      return ((sides ^ (sides >> 1)) & 0b010101) != 0;  // -a and +a differ for some axis a
+    });
+  }
+
+  // Each voxel's distance (the scan's, else the near field's) and closest point.
+  void fill_distances(const std::vector<ScannedVoxel>& scanned, const StageProgress& progress) {
+    band_.distance_.resize(band_.voxels_.size());
+    band_.closest_point_offsets_.resize(band_.voxels_.size());
+    monitored_for(band_.voxels_.size(), progress, [&](std::size_t v) {
+      const std::int64_t key = band_.keys_[v];
+      const auto it = std::lower_bound(scanned.begin(), scanned.end(), key,
+                                       [](const ScannedVoxel& a, std::int64_t k) { return a.key < k; });
+      // Voxels added by the closure were not scanned into the band: the near field has them.
+      if (it != scanned.end() && it->key == key) {
+        band_.distance_[v] = it->psi;
+      } else {
+        const double psi = near_.psi(band_.voxels_[v]);
+        band_.distance_[v] = std::isnan(psi) ? surface_.distance(grid_.position(band_.voxels_[v])) : psi;
+      }
+      const Vec3 offset =
+          (closest_point_of(near_, surface_, grid_, band_.voxels_[v], options_.closest_point) -
+           grid_.position(band_.voxels_[v])) /
+          grid_.h();
+      band_.closest_point_offsets_[v] = {static_cast<float>(offset.x()), static_cast<float>(offset.y()),
+                                         static_cast<float>(offset.z())};
+    });
+  }
+
+ private:
+  // The ghosts of the current voxels, their stencils at their closest points, and the stencil corners
+  // that are not band voxels (sorted, once each).
+  std::vector<std::int64_t> stencil_corners_missing(const StageProgress& round_progress) {
+    std::vector<std::int64_t> ghost_keys = ghost_keys_of(band_.keys_, grid_, band_.neighbors_);
+    round_progress.advance(0.3);
+    const auto even = std::stable_partition(ghost_keys.begin(), ghost_keys.end(),
+                                            [&](std::int64_t key) { return parity(grid_.coord(key)) == 0; });
+    band_.odd_ghosts_begin_ = static_cast<std::size_t>(even - ghost_keys.begin());
+    band_.ghosts_.resize(ghost_keys.size());
+    for (std::size_t g = 0; g < ghost_keys.size(); ++g) band_.ghosts_[g] = grid_.coord(ghost_keys[g]);
+
+    band_.stencils_.assign(ghost_keys.size(), {});
+    std::vector<std::vector<std::int64_t>> missing(ghost_keys.size());
+    std::vector<double> offsets(ghost_keys.size(), 0.0);
+    monitored_for(ghost_keys.size(), round_progress.part(0.3, 1.0), [&](std::size_t g) {
+      const Coord c = band_.ghosts_[g];
+      const Vec3 cp = closest_point_of(near_, surface_, grid_, c, options_.closest_point);
+      offsets[g] = (cp - grid_.position(c)).norm() / grid_.h();
+      const auto [base, t] = lattice_cell(grid_.to_index_space(cp));
+      GhostStencil& s = band_.stencils_[g];
+      s.t = {static_cast<float>(t.x()), static_cast<float>(t.y()), static_cast<float>(t.z())};
+      for (int r = 0; r < 4; ++r) {  // the cell's 4 rows along x: one search finds both corners
+        const Coord row_start{base.i, base.j + (r & 1), base.k + (r >> 1)};
+        const std::array<std::int64_t, 2> idx = band_.find_x_pair(row_start);
+        s.row[static_cast<std::size_t>(r)] = static_cast<std::int32_t>(std::max<std::int64_t>(idx[0], 0));
+        for (int x = 0; x < 2; ++x) {
+          if (idx[static_cast<std::size_t>(x)] >= 0) continue;
+          const Coord cc{row_start.i + x, row_start.j, row_start.k};
+          if (!grid_.contains(cc)) throw InputError("a closest point lies outside the grid: add padding");
+          missing[g].push_back(grid_.key(cc));
+        }
+      }
+    });
+    std::vector<std::int64_t> added;
+    for (const auto& m : missing) added.insert(added.end(), m.begin(), m.end());
+    if (added.empty())
+      band_.stats_.max_closest_point_offset = *std::max_element(offsets.begin(), offsets.end());
+    std::sort(added.begin(), added.end());
+    added.erase(std::unique(added.begin(), added.end()), added.end());
+    return added;
+  }
+
+  NarrowBand& band_;
+  const NearField& near_;
+  const Surface& surface_;
+  const Grid& grid_;
+  const BandOptions& options_;
+};
+
 NarrowBand build_band(const Surface& surface, const Grid& grid, const BandOptions& options) {
   NarrowBand band(grid);
   const double delta = options.delta_in_h * grid.h();
@@ -303,123 +444,17 @@ NarrowBand build_band(const Surface& surface, const Grid& grid, const BandOption
   if (keys.size() >= static_cast<std::size_t>(INT32_MAX / 2))
     throw InputError("the narrow band has too many voxels for 32-bit indices: use a coarser resolution");
 
-  const auto take_voxels = [&] {
-    band.keys_ = keys;
-    band.voxels_.resize(keys.size());
-    for (std::size_t v = 0; v < keys.size(); ++v) band.voxels_[v] = grid.coord(keys[v]);
-    const auto& d = grid.dims();
-    if (std::any_of(band.voxels_.begin(), band.voxels_.end(), [&](const Coord& c) {
-          return c.i <= 0 || c.j <= 0 || c.k <= 0 || c.i >= d[0] - 1 || c.j >= d[1] - 1 || c.k >= d[2] - 1;
-        }))
-      throw InputError("the narrow band touches the edge of the grid: enlarge the domain or add padding");
-    band_neighbours(band.keys_, grid, band.neighbors_);
-  };
+  BandBuilder builder(band, near, surface, options);
   if (options.surface_layer) {
     band.surface_layer_ = true;
-    take_voxels();
+    builder.take_voxels(keys);
   } else {
-    // Closure: every corner of every ghost's interpolation cell must be a band voxel. Corners are within
-    // sqrt(3) h of the surface, so for a true distance function the rule already holds; add the rare
-    // exceptions (curved level sets with |grad_h psi| < 1) and rebuild the ghosts.
-    for (int round = 0;; ++round) {
-      const StageProgress round_progress = progress.part(0.6 + 0.02 * round, 0.8 + 0.02 * round);
-      round_progress.check();
-      take_voxels();
-      round_progress.advance(0.2);
-      std::vector<std::int64_t> ghost_keys = ghost_keys_of(band.keys_, grid, band.neighbors_);
-      round_progress.advance(0.3);
-      const auto even = std::stable_partition(ghost_keys.begin(), ghost_keys.end(),
-                                              [&](std::int64_t key) { return parity(grid.coord(key)) == 0; });
-      band.odd_ghosts_begin_ = static_cast<std::size_t>(even - ghost_keys.begin());
-      band.ghosts_.resize(ghost_keys.size());
-      for (std::size_t g = 0; g < ghost_keys.size(); ++g) band.ghosts_[g] = grid.coord(ghost_keys[g]);
-
-      band.stencils_.assign(ghost_keys.size(), {});
-      std::vector<std::vector<std::int64_t>> missing(ghost_keys.size());
-      std::vector<double> offsets(ghost_keys.size(), 0.0);
-      monitored_for(ghost_keys.size(), round_progress.part(0.3, 1.0), [&](std::size_t g) {
-        const Coord c = band.ghosts_[g];
-        const Vec3 cp = closest_point_of(near, surface, grid, c, options.closest_point);
-        offsets[g] = (cp - grid.position(c)).norm() / grid.h();
-        const auto [base, t] = lattice_cell(grid.to_index_space(cp));
-        GhostStencil& s = band.stencils_[g];
-        s.t = {static_cast<float>(t.x()), static_cast<float>(t.y()), static_cast<float>(t.z())};
-        for (int r = 0; r < 4; ++r) {  // the cell's 4 rows along x: one search finds both corners
-          const Coord row_start{base.i, base.j + (r & 1), base.k + (r >> 1)};
-          const std::array<std::int64_t, 2> idx = band.find_x_pair(row_start);
-          s.row[static_cast<std::size_t>(r)] = static_cast<std::int32_t>(std::max<std::int64_t>(idx[0], 0));
-          for (int x = 0; x < 2; ++x) {
-            if (idx[static_cast<std::size_t>(x)] >= 0) continue;
-            const Coord cc{row_start.i + x, row_start.j, row_start.k};
-            if (!grid.contains(cc)) throw InputError("a closest point lies outside the grid: add padding");
-            missing[g].push_back(grid.key(cc));
-          }
-        }
-      });
-      std::vector<std::int64_t> added;
-      for (const auto& m : missing) added.insert(added.end(), m.begin(), m.end());
-      if (added.empty()) {
-        band.stats_.max_closest_point_offset = *std::max_element(offsets.begin(), offsets.end());
-        break;
-      }
-      if (round == 8) throw std::runtime_error("narrow band closure did not settle after 8 rounds");
-      std::sort(added.begin(), added.end());
-      added.erase(std::unique(added.begin(), added.end()), added.end());
-      band.stats_.closure_added += static_cast<std::int64_t>(added.size());
-      keys.insert(keys.end(), added.begin(), added.end());
-      std::sort(keys.begin(), keys.end());
-    }
-
-    // The neighbour table holds band indices from the last round; ghosts by their parity's key order.
+    builder.close_ghost_stencils(keys, progress);
     progress.advance(0.8);
-    const auto n = static_cast<std::int64_t>(band.voxels_.size());
-    tbb::parallel_for(std::size_t{0}, band.voxels_.size(), [&](std::size_t v) {
-      for (int o = 0; o < NarrowBand::kNeighbors; ++o) {
-        std::int32_t& idx = band.neighbors_[v * NarrowBand::kNeighbors + static_cast<std::size_t>(o)];
-        if (idx >= 0) continue;
-        const Coord nb = shifted(band.voxels_[v], kFaceOffsets[static_cast<std::size_t>(o)]);
-        const auto [begin, end] = band.ghosts_of_parity(parity(nb));
-        const auto first = band.ghosts_.begin() + static_cast<std::ptrdiff_t>(begin);
-        const auto it =
-            std::lower_bound(first, band.ghosts_.begin() + static_cast<std::ptrdiff_t>(end), grid.key(nb),
-                             [&](const Coord& a, std::int64_t b) { return grid.key(a) < b; });
-        idx = static_cast<std::int32_t>(n + (it - band.ghosts_.begin()));
-      }
-    });
-
-    // The paper's ghost set is { I |grad_h I| != 0 }: ghosts with an unbalanced band neighbour pair. A
-    // ghost's band neighbours are the voxels whose neighbour entries point at it (direction o from the
-    // voxel is o ^ 1 from the ghost): one pass over the table, not 6 searches per ghost.
-    std::vector<std::uint8_t> band_sides(band.ghosts_.size(), 0);  // bit o: the neighbour in direction o
-    for (std::size_t e = 0; e < band.neighbors_.size(); ++e)
-      if (band.neighbors_[e] >= n)
-        band_sides[static_cast<std::size_t>(band.neighbors_[e] - n)] |=
-            static_cast<std::uint8_t>(1u << ((e % NarrowBand::kNeighbors) ^ 1));
+    builder.link_ghosts();
     progress.advance(0.85);
-    band.stats_.paper_ghosts = std::count_if(band_sides.begin(), band_sides.end(), [](std::uint8_t sides) {
-      return ((sides ^ (sides >> 1)) & 0b010101) != 0;  // -a and +a differ for some axis a
-    });
   }
-
-  band.distance_.resize(band.voxels_.size());
-  band.closest_point_offsets_.resize(band.voxels_.size());
-  monitored_for(band.voxels_.size(), progress.part(0.85, 1.0), [&](std::size_t v) {
-    const std::int64_t key = band.keys_[v];
-    const auto it = std::lower_bound(scanned.begin(), scanned.end(), key,
-                                     [](const ScannedVoxel& a, std::int64_t k) { return a.key < k; });
-    // Voxels added by the closure were not scanned into the band: the near field has them.
-    if (it != scanned.end() && it->key == key) {
-      band.distance_[v] = it->psi;
-    } else {
-      const double psi = near.psi(band.voxels_[v]);
-      band.distance_[v] = std::isnan(psi) ? surface.distance(grid.position(band.voxels_[v])) : psi;
-    }
-    const Vec3 offset = (closest_point_of(near, surface, grid, band.voxels_[v], options.closest_point) -
-                         grid.position(band.voxels_[v])) /
-                        grid.h();
-    band.closest_point_offsets_[v] = {static_cast<float>(offset.x()), static_cast<float>(offset.y()),
-                                      static_cast<float>(offset.z())};
-  });
+  builder.fill_distances(scanned, progress.part(0.85, 1.0));
   return band;
 }
 

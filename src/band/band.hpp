@@ -139,6 +139,7 @@ class NarrowBand {
 
  private:
   friend NarrowBand build_band(const Surface&, const Grid&, const BandOptions&);
+  friend class BandBuilder;  // build_band's steps (band.cpp)
 
   Grid grid_;
   std::vector<Coord> voxels_;
