@@ -119,19 +119,16 @@ void reduce_output(MeshOutput& out, const Options& options, double wall_mm, cons
   const DistanceRule rule =
       options.max_triangles > 0 || options.lean ? DistanceRule::kPlaced : DistanceRule::kBoundOnly;
   const DecimateOptions decimate{target, reduction_bound(options, wall_mm), progress, rule};
-  if (options.max_triangles > 0) {
+  try {
     out.reduction = decimate_mesh(out.mesh, decimate);
-  } else {
+  } catch (const Error&) {
+    throw;  // cancelled, or bad input: as anywhere else
+  } catch (const std::runtime_error& failed) {
     // The default's reduction is an economy, never a reason to fail a run: where its result fails a
-    // check (a std::runtime_error, the mesh left as it was), the full isosurface is written.
-    try {
-      out.reduction = decimate_mesh(out.mesh, decimate);
-    } catch (const Error&) {
-      throw;  // cancelled, or bad input: as anywhere else
-    } catch (const std::runtime_error& failed) {
-      out.reduction.reset();
-      out.reduction_skipped = failed.what();  // said in the report's warnings: never silently
-    }
+    // check (the mesh left as it was), the full isosurface is written. A budget's failure is the run's.
+    if (options.max_triangles > 0) throw;
+    out.reduction.reset();
+    out.reduction_skipped = failed.what();  // said in the report's warnings: never silently
   }
   // A budget is a promise to the printer or the viewer downstream: not met, nothing is written.
   if (options.max_triangles > 0 && !out.reduction->reached_target)

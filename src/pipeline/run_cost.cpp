@@ -46,7 +46,7 @@ constexpr double kSecondsPerCollapse = 21.0e-6, kReductionBytesPerTriangle = 170
 // wall; 2,100,348 triangles), default against `max_deviation` 0 on a quiet 2-core machine: 6.99 s against
 // 3.62 s, 601 against 167 MB peak. Kept since the isosurface's clamped crossings lie on the surface
 // (bench/lean-mesh, 2026-12-07): the bunny 723,644 of 2,100,938 (0.34), the sphere r 50 mm, 6 mm at
-// 10 mm, 338,644 of 1,154,928 (0.29).
+// 10 mm, 338,644 of 1,154,928 (0.29); the estimate takes the larger, rounded up.
 constexpr double kBoundSecondsPerTriangle = 1.6e-6, kBoundBytesPerTriangle = 210.0, kBoundKeptShare = 0.35;
 // `lean`: the placed collapses keep 0.18 (the bunny: 375,752) and 0.18 (the sphere: 202,122), in about the
 // fan bounds' memory (bench_reduce: 731 against 703 MB, 405 against 404 MB).
