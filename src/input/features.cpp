@@ -6,6 +6,9 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <numeric>
+#include <queue>
+#include <tuple>
 
 #include "core/disjoint_sets.hpp"
 #include "geometry/point_tree.hpp"
@@ -15,8 +18,8 @@ namespace {
 
 using Edge = std::pair<std::int32_t, std::int32_t>;
 
-// Points whose marks decide whether a point cloud's thin mark stands (itself included).
-constexpr std::size_t kAgreeingNeighbours = 12;
+// Neighbours that pass on a point cloud's orientation: a few more than a splat's plane fit takes.
+constexpr std::size_t kOrientingNeighbours = 12;
 constexpr double kLeastDepthInSpacings = 2.0;
 
 Vec3 face_normal(const TriangleMesh& m, const std::array<std::int32_t, 3>& t) {
@@ -57,6 +60,37 @@ std::vector<double> grow_marks(std::span<const Vec3> points, const std::vector<d
   return grown;
 }
 
+// Thin where no ball of radius R fits nearby. Each point's ball touches it from inside (along `inward`,
+// unit, or zero where it has none): where it fits, its centre is a centre of a ball of the hole's scale
+// inside the part. A point is thin where no fitting centre lies within R + margin of it: a scan's grooves
+// and bumps tilt a point's own normal, or leave its ball short of room, though its neighbours' balls fit
+// beside it (issue 51: the armadillo's relief read as thin, 74% of its vertices against 33-38% by the
+// ball test at the hole's scale); a thin part has no fitting ball anywhere near. `least_t`: per point,
+// the smallest depth tested (0 for every depth).
+std::vector<double> thin_by_balls(std::span<const Vec3> points, std::span<const Vec3> inward,
+                                  std::span<const double> least_t, const Surface& surface, double radius,
+                                  double margin) {
+  std::vector<char> fits(points.size(), 0);
+  std::vector<Vec3> centre(points.size(), Vec3::Zero());
+  tbb::parallel_for(std::size_t{0}, points.size(), [&](std::size_t v) {
+    if (inward[v].squaredNorm() == 0.0) return;
+    centre[v] = points[v] + radius * inward[v];
+    fits[v] = thin_along(surface, points[v], inward[v], radius, least_t.empty() ? 0.0 : least_t[v]) ? 0 : 1;
+  });
+  std::vector<Vec3> fitted;
+  for (std::size_t v = 0; v < fits.size(); ++v)
+    if (fits[v]) fitted.push_back(centre[v]);
+  std::vector<double> thin(points.size(), 1.0);
+  if (!fitted.empty()) {
+    const PointTree tree(fitted);
+    const double reach = radius + margin;
+    tbb::parallel_for(std::size_t{0}, points.size(), [&](std::size_t v) {
+      thin[v] = fits[v] || tree.nearest(points[v]).second <= reach ? 0.0 : 1.0;
+    });
+  }
+  return grow_marks(points, thin, margin);
+}
+
 std::vector<double> thin_vertices(const TriangleMesh& mesh, const Surface& surface, const FeatureOptions& o) {
   std::vector<Vec3> normal(mesh.vertices.size(), Vec3::Zero());
   double volume = 0.0;
@@ -66,34 +100,9 @@ std::vector<double> thin_vertices(const TriangleMesh& mesh, const Surface& surfa
     volume += mesh.vertices[static_cast<std::size_t>(t[0])].dot(n) / 6.0;
   }
   const double inward = volume >= 0.0 ? -1.0 : 1.0;
-  const double radius = 0.5 * o.thin_below;
-  // Each vertex's ball, touching it from inside along its normal: where it fits, its centre is a centre
-  // of a ball of the hole's scale inside the part.
-  std::vector<char> fits(mesh.vertices.size(), 0);
-  std::vector<Vec3> centre(mesh.vertices.size(), Vec3::Zero());
-  tbb::parallel_for(std::size_t{0}, mesh.vertices.size(), [&](std::size_t v) {
-    if (normal[v].squaredNorm() == 0.0) return;
-    const Vec3 in = inward * normal[v].normalized();
-    centre[v] = mesh.vertices[v] + radius * in;
-    fits[v] = thin_along(surface, mesh.vertices[v], in, radius) ? 0 : 1;
-  });
-  // Thin where no such ball comes near: no fitting centre within the ball's radius and half a hole
-  // (kept in `margin`) of the vertex. A scan's grooves and bumps tilt a vertex's own normal, or leave its
-  // ball short of room, though its neighbours' balls fit beside it (issue 51: the armadillo's relief read
-  // as thin, 74% of its vertices against 33-38% by the ball test at the hole's scale); a thin part has
-  // no fitting ball anywhere near.
-  std::vector<Vec3> fitted;
-  for (std::size_t v = 0; v < fits.size(); ++v)
-    if (fits[v]) fitted.push_back(centre[v]);
-  std::vector<double> thin(mesh.vertices.size(), 1.0);
-  if (!fitted.empty()) {
-    const PointTree tree(fitted);
-    const double reach = radius + o.margin;
-    tbb::parallel_for(std::size_t{0}, mesh.vertices.size(), [&](std::size_t v) {
-      thin[v] = fits[v] || tree.nearest(mesh.vertices[v]).second <= reach ? 0.0 : 1.0;
-    });
-  }
-  return grow_marks(mesh.vertices, thin, o.margin);
+  for (Vec3& n : normal)
+    if (n.squaredNorm() > 0.0) n = inward * n.normalized();
+  return thin_by_balls(mesh.vertices, normal, {}, surface, 0.5 * o.thin_below, o.margin);
 }
 
 // Sharp edges (dihedral above the angle, both faces present), kept where they chain through shared
@@ -145,32 +154,77 @@ std::vector<std::array<Vec3, 2>> crease_segments(const TriangleMesh& mesh, const
 
 }  // namespace
 
+std::vector<Vec3> oriented_normals(std::span<const Vec3> points, std::span<const Vec3> normals,
+                                   const PointTree& tree) {
+  // The neighbour graph, both ways: a point another one counts among its nearest is its neighbour too.
+  // As one array (`first` indexes each point's run), not a vector per point: 8 bytes an edge.
+  const std::size_t n = points.size(), k = std::min(kOrientingNeighbours, n);
+  std::vector<std::uint32_t> nearest(n * k);
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t v) {
+    const std::vector<std::size_t> near = tree.k_nearest(points[v], k);
+    for (std::size_t i = 0; i < k; ++i) nearest[v * k + i] = static_cast<std::uint32_t>(near[i]);
+  });
+  std::vector<std::size_t> first(n + 1, 0);
+  for (std::size_t v = 0; v < n; ++v)
+    for (std::size_t i = 0; i < k; ++i) {
+      ++first[v + 1];
+      ++first[nearest[v * k + i] + 1];
+    }
+  for (std::size_t v = 0; v < n; ++v) first[v + 1] += first[v];
+  std::vector<std::uint32_t> neighbours(first[n]);
+  std::vector<std::size_t> fill(first.begin(), first.end() - 1);
+  for (std::size_t v = 0; v < n; ++v)
+    for (std::size_t i = 0; i < k; ++i) {
+      const std::uint32_t u = nearest[v * k + i];
+      neighbours[fill[v]++] = u;
+      neighbours[fill[u]++] = static_cast<std::uint32_t>(v);
+    }
+  // Prim's tree of least bend, each point turned to agree with the one it is reached from; each part of
+  // the graph starts at its point of largest x, whose outward normal has a positive x.
+  std::vector<Vec3> out(normals.begin(), normals.end());
+  std::vector<char> done(n, 0);
+  std::vector<std::size_t> by_x(n);
+  std::iota(by_x.begin(), by_x.end(), std::size_t{0});
+  std::sort(by_x.begin(), by_x.end(), [&](std::size_t a, std::size_t b) {
+    return points[a].x() != points[b].x() ? points[a].x() > points[b].x() : a < b;
+  });
+  // How little the side passes on from v to u: normals apart, or u off v's tangent plane (across a sheet
+  // thinner than the neighbours' reach, where the normals are parallel but the sides opposite).
+  const auto bend = [&](std::size_t u, std::size_t v) {
+    const Vec3 along = (points[u] - points[v]).stableNormalized();  // zero for a repeated point
+    return 1.0 - std::abs(out[u].dot(out[v])) +
+           0.5 * (std::abs(out[u].dot(along)) + std::abs(out[v].dot(along)));
+  };
+  using Step = std::tuple<double, std::size_t, std::size_t>;  // (bend, point, the point it is reached from)
+  std::priority_queue<Step, std::vector<Step>, std::greater<>> queue;
+  for (const std::size_t seed : by_x) {
+    if (done[seed]) continue;
+    if (out[seed].x() < 0.0) out[seed] = -out[seed];
+    queue.emplace(0.0, seed, seed);
+    while (!queue.empty()) {
+      const auto [cost, v, from] = queue.top();
+      queue.pop();
+      if (done[v]) continue;
+      done[v] = 1;
+      if (out[v].dot(out[from]) < 0.0) out[v] = -out[v];
+      for (std::size_t i = first[v]; i < first[v + 1]; ++i)
+        if (const std::size_t u = neighbours[i]; !done[u]) queue.emplace(bend(u, v), u, v);
+    }
+  }
+  return out;
+}
+
 std::vector<double> thin_points(std::span<const Vec3> points, std::span<const Vec3> normals,
                                 std::span<const double> spacing, const PointTree& tree,
                                 const Surface& surface, const FeatureOptions& options) {
-  std::vector<double> thin(points.size(), 0.0);
-  if (!(options.thin_below > 0.0)) return thin;
-  const double radius = 0.5 * options.thin_below;
-  tbb::parallel_for(std::size_t{0}, points.size(), [&](std::size_t v) {
-    const Vec3& n = normals[v];
-    // Within a few spacings of the point its neighbours' splats, tilted by their normals' noise, come
-    // closer than 0.9 t (a third of the bunny's points looked thin): depths from twice the spacing on.
-    const double least_t = kLeastDepthInSpacings * spacing[v];
-    if (n.squaredNorm() > 0.0 && (thin_along(surface, points[v], n, radius, least_t) ||
-                                  thin_along(surface, points[v], -n, radius, least_t)))
-      thin[v] = 1.0;
-  });
-  // A scan's stray points carry splats off the surface that make the points near them look thin; a
-  // thin part's points are thin together. Keep a mark only where most of its neighbours have one.
-  std::vector<double> kept(points.size(), 0.0);
-  tbb::parallel_for(std::size_t{0}, points.size(), [&](std::size_t v) {
-    if (thin[v] == 0.0) return;
-    const std::vector<std::size_t> near = tree.k_nearest(points[v], kAgreeingNeighbours);
-    std::size_t agree = 0;
-    for (const std::size_t u : near) agree += thin[u] > 0.0 ? 1 : 0;
-    kept[v] = 2 * agree > near.size() ? 1.0 : 0.0;
-  });
-  return grow_marks(points, kept, options.margin);
+  if (!(options.thin_below > 0.0)) return std::vector<double>(points.size(), 0.0);
+  std::vector<Vec3> inward = oriented_normals(points, normals, tree);
+  for (Vec3& n : inward) n = -n;
+  // Within a few spacings of the point its neighbours' splats, tilted by their normals' noise, come
+  // closer than 0.9 t (a third of the bunny's points looked thin): depths from twice the spacing on.
+  std::vector<double> least_t(spacing.begin(), spacing.end());
+  for (double& t : least_t) t *= kLeastDepthInSpacings;
+  return thin_by_balls(points, inward, least_t, surface, 0.5 * options.thin_below, options.margin);
 }
 
 SurfaceFeatures find_surface_features(const TriangleMesh& mesh, const Surface& surface,
