@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "cli_support.hpp"
+
 namespace {
 
 std::string yes_no(bool b, const char* yes, const char* no) {
@@ -269,7 +271,8 @@ void print_summary(const poreshell::Options& c, const poreshell::Report& r,
 }
 
 void print_warnings(const poreshell::Options& c, const poreshell::Report& r) {
-  for (const std::string& warning : r.warnings) fmt::print(stderr, "poreshell: warning: {}\n", warning);
+  for (const std::string& warning : r.warnings)
+    fmt::print(stderr, "poreshell: warning: {}\n", with_flags(warning));
   if (r.solver.steps == 0) {
     // Nothing solved (a preview of the even layout): no stop to warn about.
   } else if (!r.solver.reached_tolerance && r.solver.stop_rule == "holes")

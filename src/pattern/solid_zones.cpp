@@ -171,7 +171,6 @@ FeatureZones feature_zones(const Options& c, const PlacedSurface& placed, double
   SurfaceFeatures f = find_surface_features(*placed.mesh, *placed.surface, o);
   zones.thin_vertices = f.thin_vertices;
   zones.crease_edges = f.crease_edges;
-  zones.thin_marks = f.thin;
   if (f.thin_vertices > 0) {
     // Only the triangles with a marked vertex: the field is 0 on all others, and the solid zones ask at
     // points on the surface (the voxels' closest points, within rounding of it), so a point no marked
@@ -191,51 +190,59 @@ FeatureZones feature_zones(const Options& c, const PlacedSurface& placed, double
   return zones;
 }
 
-ZoneAreas zone_areas(const Options& c, const PlacedSurface& placed, const FeatureZones& features,
-                     const std::function<double(const Vec3&)>& mask) {
-  ZoneAreas areas;
-  if (!placed.mesh) return areas;
-  const TriangleMesh& mesh = *placed.mesh;
+ZoneAreas zone_areas(const Options& c, const PlacedSurface& placed, const NarrowBand& band,
+                     const FeatureZones& features, const std::function<double(const Vec3&)>& mask) {
   const double mm = placed.mm_per_grid(), grid_per_mm = 1.0 / mm;
-  std::vector<Vec3> centroid(mesh.triangles.size());
-  std::vector<double> area(mesh.triangles.size());
-  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
-    const auto& t = mesh.triangles[i];
-    const Vec3 &a = mesh.vertices[static_cast<std::size_t>(t[0])],
-               &b = mesh.vertices[static_cast<std::size_t>(t[1])],
-               &d = mesh.vertices[static_cast<std::size_t>(t[2])];
-    centroid[i] = (a + b + d) / 3.0;
-    area[i] = 0.5 * (b - a).cross(d - a).norm() * mm * mm;
-  }
+  std::vector<Vec3> foot(band.size());
+  std::vector<double> area(band.size());
+  tbb::parallel_for(std::size_t{0}, band.size(), [&](std::size_t v) {
+    area[v] = band.surface_area(v) * mm * mm;
+    foot[v] = area[v] > 0.0 ? band.closest_point(v) : Vec3::Constant(std::numeric_limits<double>::infinity());
+  });
   const auto near = [&](std::span<const Segment> segments, double width) {
-    std::vector<char> in(centroid.size(), 0);
+    std::vector<char> in(foot.size(), 0);
     if (segments.empty() || !(width > 0.0)) return in;
-    const std::vector<double> d = segment_distances(centroid, segments, width);
+    const std::vector<double> d = segment_distances(foot, segments, width);
     for (std::size_t i = 0; i < d.size(); ++i) in[i] = d[i] < width ? 1 : 0;
     return in;
   };
-  const std::vector<Segment> boundary = boundary_segments(mesh);
+  const std::vector<Segment> boundary =
+      placed.mesh ? boundary_segments(*placed.mesh) : std::vector<Segment>{};
   const std::vector<char> creases = near(features.creases, features.crease_width),
                           rims = near(boundary, c.rim * grid_per_mm);
-  for (std::size_t i = 0; i < centroid.size(); ++i) {
-    const auto& t = mesh.triangles[i];
-    bool thin = false;
-    if (!features.thin_marks.empty()) {
-      double marks = 0.0;
-      for (std::int32_t v : t) marks += features.thin_marks[static_cast<std::size_t>(v)];
-      thin = marks >= 1.5;  // most of its corners
-    }
-    const Vec3 x = placed.to_mm(centroid[i]);
+  ZoneAreas areas;
+  areas.each_keep_out.resize(c.keep_out.size() + c.keep_out_boxes.size());
+  const Box bounds = placed.surface->bounds();
+  const SolidBox model = SolidBox::spanned(placed.to_mm(bounds.min), placed.to_mm(bounds.max));
+  for (std::size_t k = 0; k < c.keep_out.size(); ++k)
+    areas.each_keep_out[k].outside_bounds =
+        box_distance(vec(c.keep_out[k].centre), model) > c.keep_out[k].radius;
+  for (std::size_t k = 0; k < c.keep_out_boxes.size(); ++k) {
+    const SolidBox box = SolidBox::spanned(vec(c.keep_out_boxes[k].min), vec(c.keep_out_boxes[k].max));
+    areas.each_keep_out[c.keep_out.size() + k].outside_bounds =
+        (box.min - model.max).cwiseMax(model.min - box.max).maxCoeff() > 0.0;
+  }
+  for (std::size_t v = 0; v < foot.size(); ++v) {
+    if (!(area[v] > 0.0)) continue;
+    const bool thin = features.thin && features.thin(foot[v]) >= 0.5;
+    const Vec3 x = placed.to_mm(foot[v]);
     bool kept = mask && mask(x) >= 0.5;
-    for (const KeepOutSphere& k : c.keep_out) kept = kept || (x - vec(k.centre)).norm() < k.radius;
-    for (const KeepOutBox& k : c.keep_out_boxes)
-      kept = kept || box_distance(x, SolidBox::spanned(vec(k.min), vec(k.max))) < 0.0;
-    areas.surface += area[i];
-    areas.thin += thin ? area[i] : 0.0;
-    areas.creases += creases[i] ? area[i] : 0.0;
-    areas.rims += rims[i] ? area[i] : 0.0;
-    areas.keep_outs += kept ? area[i] : 0.0;
-    areas.solid += thin || creases[i] || rims[i] || kept ? area[i] : 0.0;
+    std::size_t k = 0;
+    const auto keep_out = [&](double outside) {  // x's distance outside keep-out k, negative inside
+      ZoneAreas::KeepOutReach& reach = areas.each_keep_out[k++];
+      reach.gap_mm = std::min(reach.gap_mm, std::max(outside, 0.0));
+      reach.area += outside < 0.0 ? area[v] : 0.0;
+      kept = kept || outside < 0.0;
+    };
+    for (const KeepOutSphere& sphere : c.keep_out) keep_out((x - vec(sphere.centre)).norm() - sphere.radius);
+    for (const KeepOutBox& box : c.keep_out_boxes)
+      keep_out(box_distance(x, SolidBox::spanned(vec(box.min), vec(box.max))));
+    areas.surface += area[v];
+    areas.thin += thin ? area[v] : 0.0;
+    areas.creases += creases[v] ? area[v] : 0.0;
+    areas.rims += rims[v] ? area[v] : 0.0;
+    areas.keep_outs += kept ? area[v] : 0.0;
+    areas.solid += thin || creases[v] || rims[v] || kept ? area[v] : 0.0;
   }
   return areas;
 }

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <functional>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -78,20 +79,28 @@ struct FeatureZones {
   std::vector<Segment> creases;
   double crease_width = 0.0;
   std::int64_t thin_vertices = 0, crease_edges = 0;  // what was found, for the report
-  std::vector<double> thin_marks;                    // a mesh input's: per vertex of placed.mesh, 0 or 1
 };
 std::vector<double> solid_zones(const Options& options, const PlacedSurface& placed, const NarrowBand& band,
                                 double epsilon, const std::function<double(const Vec3&)>& mask,
                                 const FeatureZones& features = {});
 
-// The input surface's area each rule keeps solid (mm^2; a triangle counts for a rule when its centroid is
-// in the rule's zone, so overlaps count in each), and in all: what the report gives per rule, so that a
-// designer sees which rule took the porosity (issue 51). Mesh inputs only; zeros otherwise.
+// The surface's area each rule keeps solid (mm^2, from the band's voxels: each carries its share of the
+// surface at its closest point, which counts for a rule where it is in the rule's zone, so overlaps count
+// in each), and in all: what the report gives per rule, so that a designer sees which rule took the
+// porosity (issue 51). Every input: meshes, point clouds and shapes.
 struct ZoneAreas {
   double surface = 0.0, thin = 0.0, creases = 0.0, rims = 0.0, keep_outs = 0.0, solid = 0.0;
+  // Per keep-out (the spheres, then the boxes): the surface it keeps, how far the surface lies outside
+  // it (0 where it reaches the surface), and whether it misses the model's bounding box (which the
+  // estimate names before the run), so that one that keeps nothing is said (issue 51).
+  struct KeepOutReach {
+    double area = 0.0, gap_mm = std::numeric_limits<double>::infinity();
+    bool outside_bounds = false;
+  };
+  std::vector<KeepOutReach> each_keep_out;
 };
-ZoneAreas zone_areas(const Options& options, const PlacedSurface& placed, const FeatureZones& features,
-                     const std::function<double(const Vec3&)>& mask);
+ZoneAreas zone_areas(const Options& options, const PlacedSurface& placed, const NarrowBand& band,
+                     const FeatureZones& features, const std::function<double(const Vec3&)>& mask);
 
 // The thin parts and creases of a mesh input for holes of `hole_diameter_mm` (the options' thresholds);
 // none for shapes and point clouds.

@@ -213,7 +213,6 @@ PipelineResult run_pipeline(const Input& input, const PreparedInput& prepared, R
     grade_field = input_vertex_field(input, grade->field, "grade");
   if (!options.keep_out_mask.empty())
     mask = input_vertex_field(input, options.keep_out_mask, "keep_out_mask");
-  if (result.plan) result.zone_areas = zone_areas(options, placed, features, mask);
 
   monitor.stage("band");
   t = std::chrono::steady_clock::now();
@@ -233,6 +232,7 @@ PipelineResult run_pipeline(const Input& input, const PreparedInput& prepared, R
   result.ghosts = band.ghost_count();
   result.band_stats = band.stats();
   result.band_bytes = band.memory_bytes();
+  result.zone_areas = zone_areas(options, placed, band, features, mask);
 
   monitor.stage("solve");
   t = std::chrono::steady_clock::now();

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include "core/units.hpp"
+
 namespace poreshell {
 namespace {
 
@@ -140,6 +142,25 @@ Report make_report(const PipelineResult& r, const Options& options) {
             "{:.0f}%); lower --thin-features or --crease-angle, or narrow --rim, to open more",
             100.0 * l.holes.porosity, 100.0 * report.plan->porosity, share(z.solid), share(z.thin),
             share(z.creases), share(z.rims), share(z.keep_outs)));
+  // Issue 51: a keep-out that keeps none of the surface is most likely in another frame or unit. One
+  // outside the model's bounds the estimate names before the run (estimate.cpp).
+  for (std::size_t k = 0; k < z.each_keep_out.size(); ++k) {
+    if (z.each_keep_out[k].area > 0.0 || z.each_keep_out[k].outside_bounds) continue;
+    std::string which;
+    if (k < options.keep_out.size()) {
+      const KeepOutSphere& ball = options.keep_out[k];
+      which = fmt::format("`keep_out` {:g},{:g},{:g},{:g}", ball.centre[0], ball.centre[1], ball.centre[2],
+                          ball.radius);
+    } else {
+      const KeepOutBox& b = options.keep_out_boxes[k - options.keep_out.size()];
+      which = fmt::format("`keep_out_boxes` {:g},{:g},{:g},{:g},{:g},{:g}", b.min[0], b.min[1], b.min[2],
+                          b.max[0], b.max[1], b.max[2]);
+    }
+    report.warnings.push_back(fmt::format(
+        "{} keeps none of the model's surface, which comes no nearer than {} mm to it; give it in the "
+        "input's frame, in mm, over the part to keep solid",
+        which, readable(z.each_keep_out[k].gap_mm)));
+  }
   for (const MeshOutput& m : r.meshes)
     if (!m.reduction_skipped.empty())
       report.warnings.push_back(fmt::format(
