@@ -16,19 +16,8 @@
 // points by their Kuhn triangle or tetrahedron (kNames), and numbered in the order of those names, so the
 // output is deterministic for any thread count. Crossing parameters are clamped to [kSnap, 1 - kSnap]: every
 // vertex stays strictly inside its edge, so distinct edges give distinct points and no triangle is degenerate
-// even when values equal iso; and no vertex comes near a grid point, where marching tetrahedra make slivers.
-// On a shell of 589,448 triangles, kSnap = 0.001 left 7,520 triangles with an angle under 1 degree (302 under
-// 0.1); 0.05 leaves none (smallest 1.4 degrees) and moves the surface by at most 0.05 of an edge; 0.15 left
-// none under 5 degrees but moved a 3-cell wall's faces by 5% of its thickness.
-//
-// A clamped vertex is then moved within its edge's neighbourhood onto the plane through its exact crossing,
-// normal to the field's gradient at the grid point it came near: along the surface, not off it. Left on
-// its edge it stood up to 0.05 of an edge (0.033 mm on a 0.67 mm shell grid) off a flat face, alternately
-// above and below along every curve where the face passes near grid points; bumps larger than a 0.02 mm
-// reduction bound, which the reduction then had to keep (sphere r 50 mm, `--lean`: 255,108 triangles,
-// 202,122 with the move; docs/benchmarks.md, "What keeps the faces fine"). Where a move makes a triangle
-// with an angle under kLeastAngleDegrees or turns one over, its moved vertices go back to their clamped
-// places; the clamped places make neither, so this ends.
+// even when values equal iso; and no vertex comes near a grid point, where marching tetrahedra make slivers
+// (geometry/edge_crossings.hpp).
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -46,6 +35,7 @@
 
 #include "core/error.hpp"
 #include "core/parallel.hpp"
+#include "geometry/edge_crossings.hpp"
 #include "geometry/kuhn_grid.hpp"
 #include "geometry/tet_creases.hpp"
 
@@ -53,135 +43,10 @@ namespace poreshell {
 using namespace kuhn;
 namespace {
 
-constexpr double kSnap = 0.05;  // in units of the edge length
-// No triangle of the output is finer than this; tests and the reduction hold 1 degree, with a margin.
-constexpr double kLeastAngleDegrees = 1.2;
 // A crease point this near a vertex beside it (the largest difference of their barycentric coordinates
 // on the face) is not made: the triangles between them would be slivers.
 constexpr double kCreaseClearance = 0.15;
 constexpr std::size_t kPointsPerChunk = 16384;  // at least; chunks depend on the field, not the threads
-
-// Crossing parameter from the edge's lower end; exactly one of va, vb is below iso.
-double crossing(double va, double vb, double iso) {
-  return std::clamp((iso - va) / (vb - va), kSnap, 1.0 - kSnap);
-}
-
-// The same for the max of parts, each linear along the edge, at points i (lower end) and j: the inside,
-// where every part is below iso, is the overlap of the parts' insides, an interval at the inside end;
-// the crossing is its other end, clamped as crossing() does. `part`, if given, receives which part crosses
-// there; `exact`, the crossing before the clamp.
-double crossing_of_max(std::span<const std::span<const double>> parts, std::size_t i, std::size_t j,
-                       double iso, std::uint8_t* part = nullptr, double* exact = nullptr) {
-  const auto cross = [&](double v0, double v1) { return (iso - v0) / (v1 - v0); };
-  bool lower_inside = true;
-  for (const auto& p : parts) lower_inside = lower_inside && p[i] < iso;
-  double t = lower_inside ? 1.0 : 0.0;
-  for (std::size_t k = 0; k < parts.size(); ++k) {
-    const double v0 = parts[k][i], v1 = parts[k][j];
-    // lower_inside: the part that leaves first; else the part that enters last
-    const double t_k = lower_inside ? (v1 < iso ? 1.0 : cross(v0, v1)) : (v0 < iso ? 0.0 : cross(v0, v1));
-    if (lower_inside ? t_k < t : t_k > t) {
-      t = t_k;
-      if (part) *part = static_cast<std::uint8_t>(k);
-    }
-  }
-  if (exact) *exact = t;
-  return std::clamp(t, kSnap, 1.0 - kSnap);
-}
-
-Vec3 direction(int bits) {
-  return Vec3(bits & 1, (bits >> 1) & 1, (bits >> 2) & 1);
-}
-
-struct EdgeCrossing {
-  double t;      // clamped to [kSnap, 1 - kSnap]
-  double exact;  // in [0, 1]
-};
-
-EdgeCrossing vertex_crossing(const FieldLookup& lookup, std::int64_t lower, std::int64_t upper, double iso) {
-  if (!lookup.parts.empty()) {
-    const auto i = lookup.position(lower), j = lookup.position(upper);
-    double exact = 0.0;
-    if (i && j) {
-      const double t = crossing_of_max(lookup.parts, *i, *j, iso, nullptr, &exact);
-      return {t, std::clamp(exact, 0.0, 1.0)};
-    }
-  }
-  const double va = lookup.at(lower), vb = lookup.at(upper);
-  return {crossing(va, vb, iso), std::clamp((iso - va) / (vb - va), 0.0, 1.0)};
-}
-
-// Where a clamped crossing goes (grid index units): onto the plane through the exact crossing, normal to
-// the field's gradient (central differences) at the grid point it came near. `at` where the gradient
-// vanishes.
-Vec3 along_surface(const FieldLookup& lookup, const PaddedGrid& grid, std::int64_t lower, int bits,
-                   const EdgeCrossing& c, const Vec3& at) {
-  const std::int64_t near = c.exact < 0.5 ? lower : lower + grid.offset(bits);
-  Vec3 gradient;
-  for (int axis = 0; axis < 3; ++axis) {
-    const std::int64_t step = grid.offset(1 << axis);
-    gradient[axis] = lookup.at(near + step) - lookup.at(near - step);
-  }
-  const double length = gradient.norm();
-  if (!(length > 0.0)) return at;
-  const Vec3 n = gradient / length;
-  const Vec3 exact = grid.index(lower) + c.exact * direction(bits);
-  return at - n * n.dot(at - exact);
-}
-
-// The clamped crossings that along_surface() moved: their vertices (ascending) and clamped places.
-struct MovedCrossings {
-  std::vector<char> moved;             // per vertex
-  std::vector<std::int32_t> vertices;  // those moved, ascending
-  std::vector<Vec3> clamped;           // their clamped places, in the same order
-
-  const Vec3& clamped_place(const TriangleMesh& mesh, std::size_t v) const {
-    if (!moved[v]) return mesh.vertices[v];
-    const auto it = std::lower_bound(vertices.begin(), vertices.end(), static_cast<std::int32_t>(v));
-    return clamped[static_cast<std::size_t>(it - vertices.begin())];
-  }
-};
-
-// Puts the moved vertices of a triangle back at their clamped places where the move makes the triangle
-// finer than kLeastAngleDegrees or turns it over, until no such triangle is left (the clamped places make
-// none, so this ends). Each round decides from the positions it starts with: the same result for any
-// thread count.
-void undo_moves_that_spoil_triangles(TriangleMesh& mesh, MovedCrossings& m) {
-  const double least = std::pow(std::sin(kLeastAngleDegrees * std::numbers::pi / 180.0), 2);
-  std::vector<char> undo(mesh.vertices.size(), 0);
-  const auto spoiled = [&](const std::array<std::size_t, 3>& c) {
-    const Vec3 &a = mesh.vertices[c[0]], &b = mesh.vertices[c[1]], &d = mesh.vertices[c[2]];
-    const Vec3 normal = (b - a).cross(d - a);
-    if (min_angle_sine_squared(a, b, d, normal) < least) return true;
-    const Vec3 &ca = m.clamped_place(mesh, c[0]), &cb = m.clamped_place(mesh, c[1]),
-               &cd = m.clamped_place(mesh, c[2]);
-    return !(normal.dot((cb - ca).cross(cd - ca)) > 0.0);
-  };
-  for (bool any = true; any;) {
-    any = tbb::parallel_reduce(
-        tbb::blocked_range<std::size_t>(0, mesh.triangles.size(), 1 << 14), false,
-        [&](const tbb::blocked_range<std::size_t>& r, bool found) {
-          for (std::size_t f = r.begin(); f != r.end(); ++f) {
-            std::array<std::size_t, 3> c;
-            for (std::size_t k = 0; k < 3; ++k) c[k] = static_cast<std::size_t>(mesh.triangles[f][k]);
-            if (!m.moved[c[0]] && !m.moved[c[1]] && !m.moved[c[2]]) continue;
-            if (!spoiled(c)) continue;
-            for (std::size_t v : c)
-              if (m.moved[v]) undo[v] = 1;  // only ever set to 1: concurrent writes agree
-            found = true;
-          }
-          return found;
-        },
-        std::logical_or<>());
-    for (std::size_t k = 0; k < m.vertices.size(); ++k) {
-      const auto v = static_cast<std::size_t>(m.vertices[k]);
-      if (!undo[v]) continue;
-      mesh.vertices[v] = m.clamped[k];
-      m.moved[v] = 0;
-      undo[v] = 0;
-    }
-  }
-}
 
 using EdgeTriangle = std::array<std::int64_t, 3>;  // triangle as three vertex names
 
@@ -417,66 +282,70 @@ std::int64_t isosurface_euler_characteristic(const SparseField& field, double is
   return 2 * solid;
 }
 
-TriangleMesh extract_isosurface(const SparseField& field, double iso, const StageProgress& progress) {
-  const PaddedGrid grid = checked_grid(field, iso);
-  const FieldLookup lookup = sorted_field(field, grid);
-  progress.advance(0.05);
+namespace {
 
-  // Only cubes with an inside corner can hold surface: the 8 cubes around each inside point. Cubes are
-  // named by their lowest corner's key and made in chunks of consecutive key ranges, each from the
-  // points that can be a corner of its cubes (up to one plane beyond), so no table of all cubes exists;
-  // a chunk spans at least a few planes of points, so few points are read twice.
-  const std::size_t n_points = lookup.keys.size();
-  const std::size_t per_chunk =
-      std::max(kPointsPerChunk, 4 * n_points / static_cast<std::size_t>(std::max<std::int64_t>(1, grid.nz)));
-  const std::size_t chunks = (n_points + per_chunk - 1) / per_chunk;
-  // Chunk c holds the cubes with keys in [chunk_first[c], chunk_first[c + 1]).
-  std::vector<std::int64_t> chunk_first(chunks + 1);
-  for (std::size_t c = 0; c < chunks; ++c)
-    chunk_first[c] = c == 0 ? std::numeric_limits<std::int64_t>::min() : lookup.keys[c * per_chunk];
-  chunk_first[chunks] = std::numeric_limits<std::int64_t>::max();
-  // The cubes of chunk c that may hold surface, in key order.
-  const auto chunk_cells = [&](std::size_t c) {
-    const std::int64_t first = chunk_first[c], last = chunk_first[c + 1];
-    const auto begin = std::lower_bound(lookup.keys.begin(), lookup.keys.end(), first);
-    const auto end = c + 1 == chunks ? lookup.keys.end()
-                                     : std::lower_bound(begin, lookup.keys.end(), last + grid.offset(7));
-    std::vector<std::int64_t> cells;
+// The cubes that can hold surface are the 8 around each inside point. They are named by their lowest
+// corner's key and made in chunks of consecutive key ranges, each from the points that can be a corner
+// of its cubes (up to one plane beyond), so no table of all cubes exists; a chunk spans at least a few
+// planes of points, so few points are read twice. Chunk c holds the cubes with keys in
+// [first[c], first[c + 1]).
+struct Chunks {
+  Chunks(const FieldLookup& lookup, const PaddedGrid& grid) {
+    const std::size_t n_points = lookup.keys.size();
+    const std::size_t per_chunk = std::max(
+        kPointsPerChunk, 4 * n_points / static_cast<std::size_t>(std::max<std::int64_t>(1, grid.nz)));
+    count = (n_points + per_chunk - 1) / per_chunk;
+    first.resize(count + 1);
+    for (std::size_t c = 0; c < count; ++c)
+      first[c] = c == 0 ? std::numeric_limits<std::int64_t>::min() : lookup.keys[c * per_chunk];
+    first[count] = std::numeric_limits<std::int64_t>::max();
+  }
+
+  // The cubes of chunk c with an inside corner, in key order.
+  std::vector<std::int64_t> cells(std::size_t c, const FieldLookup& lookup, const PaddedGrid& grid,
+                                  double iso) const {
+    const std::int64_t from = first[c], to = first[c + 1];
+    const auto begin = std::lower_bound(lookup.keys.begin(), lookup.keys.end(), from);
+    const auto end =
+        c + 1 == count ? lookup.keys.end() : std::lower_bound(begin, lookup.keys.end(), to + grid.offset(7));
+    std::vector<std::int64_t> out;
     for (auto it = begin; it != end; ++it)
-      if (lookup.values[static_cast<std::size_t>(it - lookup.keys.begin())] < iso) cells.push_back(*it);
-    // The cubes with an inside corner, by three merges of the sorted keys with themselves shifted by one
-    // step along x, then y, then z (the corner offsets are their sums), not by sorting 8 per point.
+      if (lookup.values[static_cast<std::size_t>(it - lookup.keys.begin())] < iso) out.push_back(*it);
+    // By three merges of the sorted keys with themselves shifted by one step along x, then y, then z (the
+    // corner offsets are their sums), not by sorting 8 per point.
     std::vector<std::int64_t> shifted, merged;
     for (const std::int64_t step : {grid.offset(1), grid.offset(2), grid.offset(4)}) {
-      shifted.resize(cells.size());
-      std::transform(cells.begin(), cells.end(), shifted.begin(), [&](std::int64_t k) { return k - step; });
+      shifted.resize(out.size());
+      std::transform(out.begin(), out.end(), shifted.begin(), [&](std::int64_t k) { return k - step; });
       merged.clear();
-      std::set_union(cells.begin(), cells.end(), shifted.begin(), shifted.end(), std::back_inserter(merged));
-      cells.swap(merged);
+      std::set_union(out.begin(), out.end(), shifted.begin(), shifted.end(), std::back_inserter(merged));
+      out.swap(merged);
     }
-    cells.erase(
-        std::remove_if(cells.begin(), cells.end(), [&](std::int64_t k) { return k < first || k >= last; }),
-        cells.end());
-    return cells;
-  };
+    out.erase(std::remove_if(out.begin(), out.end(), [&](std::int64_t k) { return k < from || k >= to; }),
+              out.end());
+    return out;
+  }
 
-  // Two passes over the chunks: the first counts each chunk's triangles, collects its edge names and
-  // keeps the cubes that made any; the second makes their triangles again and writes them straight into
-  // the indexed mesh. Keeping the triangles between the passes would hold each as three 8-byte names,
-  // half a gigabyte at 24 M triangles, beside the mesh being filled; a kept cube costs 8 bytes.
-  // An edge's name is recorded by the cube whose corner 0 is its lower end: that cube's Kuhn
-  // triangulation has all 7 edges from its corner 0, and a tetrahedron with a sign change on an edge
-  // always makes a triangle through it. So each name is recorded once and in ascending order (cubes in
-  // key order, then the 7 directions), and the chunks' lists in turn are all names, sorted, with no sort
-  // of three names per triangle (that was a tenth of the mesh stage at 520 points).
-  std::vector<std::size_t> first_triangle(chunks + 1, 0);
-  std::vector<std::vector<std::int64_t>> used(chunks);           // the names each chunk's cubes own
-  std::vector<std::vector<std::int64_t>> surface_cells(chunks);  // each chunk's cubes with triangles
-  // The parts are read only for crease points.
-  const bool with_parts = !lookup.parts.empty() && field.sharp_creases;
-  monitored_for(chunks, progress.part(0.05, 0.6), [&](std::size_t c) {
+  std::size_t count = 0;
+  std::vector<std::int64_t> first;
+};
+
+// The first of the two passes over the chunks (extract_isosurface): each chunk's triangle count, the edge
+// names its cubes own and the cubes that made any triangle.
+struct FirstPass {
+  std::vector<std::size_t> first_triangle;               // chunk c's from first_triangle[c], then summed
+  std::vector<std::vector<std::int64_t>> used;           // the names each chunk's cubes own
+  std::vector<std::vector<std::int64_t>> surface_cells;  // each chunk's cubes with triangles
+};
+
+FirstPass count_triangles(const FieldLookup& lookup, const PaddedGrid& grid, const Chunks& chunks, double iso,
+                          bool with_parts, const StageProgress& progress) {
+  FirstPass pass{std::vector<std::size_t>(chunks.count + 1, 0),
+                 std::vector<std::vector<std::int64_t>>(chunks.count),
+                 std::vector<std::vector<std::int64_t>>(chunks.count)};
+  monitored_for(chunks.count, progress, [&](std::size_t c) {
     std::vector<EdgeTriangle> triangles;
-    const std::vector<std::int64_t> cells = chunk_cells(c);
+    const std::vector<std::int64_t> cells = chunks.cells(c, lookup, grid, iso);
     CornerReader corners(lookup, grid, cells.empty() ? 0 : cells.front());
     CellParts cell_parts{lookup.parts, {}};
     std::vector<std::int64_t> owned;  // the names from the cube's corner 0
@@ -485,50 +354,42 @@ TriangleMesh extract_isosurface(const SparseField& field, double iso, const Stag
       const std::array<double, 8> v = corners.at(cell, with_parts ? &cell_parts.positions : nullptr);
       polygonize_cell(cell, v, with_parts ? &cell_parts : nullptr, grid, iso, triangles);
       if (triangles.empty()) continue;
-      surface_cells[c].push_back(cell);
-      first_triangle[c + 1] += triangles.size();
+      pass.surface_cells[c].push_back(cell);
+      pass.first_triangle[c + 1] += triangles.size();
       owned.clear();
       for (const EdgeTriangle& t : triangles)
         for (std::int64_t name : t)
           if (name / kNames == cell) owned.push_back(name);
       std::sort(owned.begin(), owned.end());
       owned.erase(std::unique(owned.begin(), owned.end()), owned.end());
-      used[c].insert(used[c].end(), owned.begin(), owned.end());
+      pass.used[c].insert(pass.used[c].end(), owned.begin(), owned.end());
     }
-    surface_cells[c].shrink_to_fit();
-    used[c].shrink_to_fit();
+    pass.surface_cells[c].shrink_to_fit();
+    pass.used[c].shrink_to_fit();
   });
-  for (std::size_t c = 0; c < chunks; ++c) first_triangle[c + 1] += first_triangle[c];
+  for (std::size_t c = 0; c < chunks.count; ++c) pass.first_triangle[c + 1] += pass.first_triangle[c];
+  return pass;
+}
 
-  // All names in one sorted array (each chunk's run moved in, in order): vertex index = position.
-  std::size_t vertex_count = 0;
-  for (const auto& names : used) vertex_count += names.size();
-  if (vertex_count > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()))
-    throw InputError("the isosurface has too many vertices; lower the resolution");
-  std::vector<std::int64_t> names;
-  names.reserve(vertex_count);
-  for (auto& chunk_names : used) {
-    names.insert(names.end(), chunk_names.begin(), chunk_names.end());
-    chunk_names = {};
-  }
-
-  TriangleMesh mesh;
-  mesh.vertices.resize(vertex_count);
-  const Grid& g = *field.grid;
-  MovedCrossings moved{std::vector<char>(vertex_count, 0), {}, {}};
-  monitored_for(vertex_count, progress.part(0.6, 0.7), [&](std::size_t i) {
+// Each named vertex placed: a crease point, or its edge's crossing; a crossing clamped off a grid point
+// goes onto the surface (along_surface()), and is recorded so that undo_moves_that_spoil_triangles() can
+// put it back.
+MovedCrossings place_vertices(const FieldLookup& lookup, const PaddedGrid& grid, const Grid& g,
+                              const std::vector<std::int64_t>& names, double iso, std::vector<Vec3>& vertices,
+                              const StageProgress& progress) {
+  MovedCrossings moved{std::vector<char>(names.size(), 0), {}, {}};
+  monitored_for(names.size(), progress, [&](std::size_t i) {
     const std::int64_t lower = names[i] / kNames, kind = names[i] % kNames;
     if (kind >= kFaceNames) {
-      mesh.vertices[i] =
-          g.origin() + g.h() * (grid.index(lower) + crease_point(lookup, grid, lower, kind, iso));
+      vertices[i] = g.origin() + g.h() * (grid.index(lower) + crease_point(lookup, grid, lower, kind, iso));
       return;
     }
     const int bits = static_cast<int>(kind);
     const EdgeCrossing c = vertex_crossing(lookup, lower, lower + grid.offset(bits), iso);
-    mesh.vertices[i] = g.origin() + g.h() * (grid.index(lower) + c.t * direction(bits));
+    vertices[i] = g.origin() + g.h() * (grid.index(lower) + c.t * direction(bits));
     moved.moved[i] = c.t != c.exact;
   });
-  for (std::size_t i = 0; i < vertex_count; ++i)
+  for (std::size_t i = 0; i < names.size(); ++i)
     if (moved.moved[i]) moved.vertices.push_back(static_cast<std::int32_t>(i));
   // The moved ones' crossings are found again rather than kept for every vertex: they are about a tenth.
   moved.clamped.resize(moved.vertices.size());
@@ -539,32 +400,78 @@ TriangleMesh extract_isosurface(const SparseField& field, double iso, const Stag
       const int bits = static_cast<int>(names[i] % kNames);
       const EdgeCrossing c = vertex_crossing(lookup, lower, lower + grid.offset(bits), iso);
       const Vec3 at = grid.index(lower) + c.t * direction(bits);
-      moved.clamped[k] = mesh.vertices[i];
-      mesh.vertices[i] = g.origin() + g.h() * along_surface(lookup, grid, lower, bits, c, at);
+      moved.clamped[k] = vertices[i];
+      vertices[i] = g.origin() + g.h() * along_surface(lookup, grid, lower, bits, c, at);
     }
   });
+  return moved;
+}
 
-  mesh.triangles.resize(first_triangle[chunks]);
-  monitored_for(chunks, progress.part(0.7, 1.0), [&](std::size_t c) {
+// The second pass: the kept cubes' triangles made again, written straight into the indexed mesh.
+void write_triangles(const FieldLookup& lookup, const PaddedGrid& grid,
+                     const std::vector<std::int64_t>& names, double iso, bool with_parts, FirstPass& pass,
+                     std::vector<Triangle>& out, const StageProgress& progress) {
+  const std::size_t chunks = pass.surface_cells.size();
+  out.resize(pass.first_triangle[chunks]);
+  monitored_for(chunks, progress, [&](std::size_t c) {
     std::vector<EdgeTriangle> triangles;
-    const std::int64_t first_cell = surface_cells[c].empty() ? 0 : surface_cells[c].front();
+    const std::int64_t first_cell = pass.surface_cells[c].empty() ? 0 : pass.surface_cells[c].front();
     CornerReader corners(lookup, grid, first_cell);
     NameReader vertices(names, grid, first_cell);
     CellParts cell_parts{lookup.parts, {}};
-    std::size_t i = first_triangle[c];
-    for (std::int64_t cell : surface_cells[c]) {
+    std::size_t i = pass.first_triangle[c];
+    for (std::int64_t cell : pass.surface_cells[c]) {
       triangles.clear();
       const std::array<double, 8> v = corners.at(cell, with_parts ? &cell_parts.positions : nullptr);
       polygonize_cell(cell, v, with_parts ? &cell_parts : nullptr, grid, iso, triangles);
       vertices.move_to(cell);
       for (const EdgeTriangle& t : triangles) {
         for (int corner = 0; corner < 3; ++corner)
-          mesh.triangles[i][corner] = static_cast<std::int32_t>(vertices.index(cell, t[corner]));
+          out[i][corner] = static_cast<std::int32_t>(vertices.index(cell, t[corner]));
         ++i;
       }
     }
-    surface_cells[c] = {};
+    pass.surface_cells[c] = {};
   });
+}
+
+}  // namespace
+
+TriangleMesh extract_isosurface(const SparseField& field, double iso, const StageProgress& progress) {
+  const PaddedGrid grid = checked_grid(field, iso);
+  const FieldLookup lookup = sorted_field(field, grid);
+  progress.advance(0.05);
+  const Chunks chunks(lookup, grid);
+  // Two passes over the chunks: the first counts each chunk's triangles, collects its edge names and
+  // keeps the cubes that made any; the second makes their triangles again and writes them straight into
+  // the indexed mesh. Keeping the triangles between the passes would hold each as three 8-byte names,
+  // half a gigabyte at 24 M triangles, beside the mesh being filled; a kept cube costs 8 bytes.
+  // An edge's name is recorded by the cube whose corner 0 is its lower end: that cube's Kuhn
+  // triangulation has all 7 edges from its corner 0, and a tetrahedron with a sign change on an edge
+  // always makes a triangle through it. So each name is recorded once and in ascending order (cubes in
+  // key order, then the 7 directions), and the chunks' lists in turn are all names, sorted, with no sort
+  // of three names per triangle (that was a tenth of the mesh stage at 520 points).
+  // The parts are read only for crease points.
+  const bool with_parts = !lookup.parts.empty() && field.sharp_creases;
+  FirstPass pass = count_triangles(lookup, grid, chunks, iso, with_parts, progress.part(0.05, 0.6));
+
+  // All names in one sorted array (each chunk's run moved in, in order): vertex index = position.
+  std::size_t vertex_count = 0;
+  for (const auto& names : pass.used) vertex_count += names.size();
+  if (vertex_count > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()))
+    throw InputError("the isosurface has too many vertices; lower the resolution");
+  std::vector<std::int64_t> names;
+  names.reserve(vertex_count);
+  for (auto& chunk_names : pass.used) {
+    names.insert(names.end(), chunk_names.begin(), chunk_names.end());
+    chunk_names = {};
+  }
+
+  TriangleMesh mesh;
+  mesh.vertices.resize(vertex_count);
+  MovedCrossings moved =
+      place_vertices(lookup, grid, *field.grid, names, iso, mesh.vertices, progress.part(0.6, 0.7));
+  write_triangles(lookup, grid, names, iso, with_parts, pass, mesh.triangles, progress.part(0.7, 1.0));
   undo_moves_that_spoil_triangles(mesh, moved);
   return mesh;
 }

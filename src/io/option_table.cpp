@@ -277,7 +277,8 @@ OptionInfo levels(std::string_view name, std::string_view group, double min, dou
 }
 
 // The ranges are what a JSON value must meet and what validate() checks on every Options, however made
-// (check_range); the CLI's flags check only the sign (command_line.cpp).
+// (check_range); the CLI's flags check only the sign (command_line.cpp). One row per option: the function
+// is as long as the options are many, and kept whole so that the table reads as one list.
 const std::vector<Row>& rows() {
   constexpr Min open = Min::open, closed = Min::closed, unset = Min::unset;
   constexpr bool below_max = true;  // real()'s last argument: the range excludes its max

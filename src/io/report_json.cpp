@@ -90,12 +90,10 @@ json to_json(std::span<const Hole> holes) {
   return table;
 }
 
-json to_json(const Report& r, std::span<const Output> outputs) {
-  json meshes = json::array();
-  for (std::size_t i = 0; i < r.outputs.size(); ++i) {
-    meshes.push_back(level_json(r.outputs[i], r));
-    if (i < outputs.size()) meshes.back()["hole_table"] = to_json(outputs[i].holes);
-  }
+namespace {
+
+// The holes asked, planned and graded (empty for the paper's parameters).
+json holes_json(const Report& r) {
   json holes = json::object();
   if (r.plan)
     holes = {{"requested",
@@ -114,9 +112,10 @@ json to_json(const Report& r, std::span<const Output> outputs) {
                         {"clamped_fraction", r.grading->clamped_fraction},
                         {"printable_min_mm", r.grading->printable_min},
                         {"printable_max_mm", r.grading->printable_max}};
-  json mesh = meshes.empty() ? json::object() : meshes.front();
-  mesh["outputs"] = meshes;
-  mesh["unperforated_euler_characteristic"] = r.unperforated_euler_characteristic;
+  return holes;
+}
+
+json solver_json(const Report& r) {
   json energy_trace = json::array();
   for (const auto& [step, e] : r.solver.energy_trace) energy_trace.push_back({step, e});
   json coarse_start = nullptr;  // no coarse start
@@ -131,26 +130,58 @@ json to_json(const Report& r, std::span<const Output> outputs) {
                     {"repeated_steps", c->repeated_steps},
                     {"spots", c->spots},
                     {"seconds", c->seconds}};
+  return {{"name", r.solver.name},
+          {"inner_iteration", r.solver.inner_iteration},
+          {"steps", r.solver.steps},
+          {"final_ec", r.solver.final_ec},
+          {"reached_tolerance", r.solver.reached_tolerance},
+          {"stop_rule", r.solver.stop_rule},
+          {"layout", r.solver.layout},
+          {"layout_holes", r.solver.layout_holes},
+          {"inner_converged", r.solver.inner_converged},
+          {"inner_iterations", r.solver.inner_iterations},
+          {"repeated_steps", r.solver.repeated_steps},
+          {"coarse_start", coarse_start},
+          {"energy",
+           {{"first", number_or_null(r.solver.energy_first)},
+            {"last", number_or_null(r.solver.energy_last)},
+            {"trace", energy_trace}}}};
+}
+
+json input_json(const Report& r) {
+  return {{"kind", r.input.kind},
+          {"name", r.input.name},
+          {"vertices", r.input.vertices},
+          {"triangles", r.input.triangles},
+          {"boundary_edges", r.input.boundary_edges},
+          {"dropped_degenerate", r.input.dropped_degenerate},
+          {"dropped_duplicate", r.input.dropped_duplicate},
+          {"euler_characteristic", r.input.euler_characteristic},
+          {"scale_to_grid", r.input.scale_to_grid},
+          {"point_route", r.input.point_route},  // points only: direct | paper
+          {"densified_points", r.input.densified_points},
+          {"segmentation_iterations", r.input.segmentation_iterations},
+          {"thin_feature_vertices", r.input.thin_vertices},
+          {"crease_edges", r.input.crease_edges}};
+}
+
+}  // namespace
+
+json to_json(const Report& r, std::span<const Output> outputs) {
+  json meshes = json::array();
+  for (std::size_t i = 0; i < r.outputs.size(); ++i) {
+    meshes.push_back(level_json(r.outputs[i], r));
+    if (i < outputs.size()) meshes.back()["hole_table"] = to_json(outputs[i].holes);
+  }
+  json mesh = meshes.empty() ? json::object() : meshes.front();
+  mesh["outputs"] = meshes;
+  mesh["unperforated_euler_characteristic"] = r.unperforated_euler_characteristic;
   const double mm_per_grid = r.input.mm_per_unit / r.input.scale_to_grid;
   return {
       {"version", r.version},
       {"command_line", r.command_line},
       {"settings", options_json(r.settings)},
-      {"input",
-       {{"kind", r.input.kind},
-        {"name", r.input.name},
-        {"vertices", r.input.vertices},
-        {"triangles", r.input.triangles},
-        {"boundary_edges", r.input.boundary_edges},
-        {"dropped_degenerate", r.input.dropped_degenerate},
-        {"dropped_duplicate", r.input.dropped_duplicate},
-        {"euler_characteristic", r.input.euler_characteristic},
-        {"scale_to_grid", r.input.scale_to_grid},
-        {"point_route", r.input.point_route},  // points only: direct | paper
-        {"densified_points", r.input.densified_points},
-        {"segmentation_iterations", r.input.segmentation_iterations},
-        {"thin_feature_vertices", r.input.thin_vertices},
-        {"crease_edges", r.input.crease_edges}}},
+      {"input", input_json(r)},
       {"units", {{"input", r.input.units}, {"input_mm_per_unit", r.input.mm_per_unit}, {"output", "mm"}}},
       {"grid",
        {{"dims", r.grid_dims}, {"h", r.h}, {"h_input_units", r.h / r.input.scale_to_grid}, {"h_mm", r.h_mm}}},
@@ -177,24 +208,8 @@ json to_json(const Report& r, std::span<const Output> outputs) {
         {"alpha_per_mm2", r.model.alpha / (mm_per_grid * mm_per_grid)},
         {"epsilon_mm", r.model.epsilon * mm_per_grid},
         {"h_mm", r.h_mm}}},
-      {"holes", holes},
-      {"solver",
-       {{"name", r.solver.name},
-        {"inner_iteration", r.solver.inner_iteration},
-        {"steps", r.solver.steps},
-        {"final_ec", r.solver.final_ec},
-        {"reached_tolerance", r.solver.reached_tolerance},
-        {"stop_rule", r.solver.stop_rule},
-        {"layout", r.solver.layout},
-        {"layout_holes", r.solver.layout_holes},
-        {"inner_converged", r.solver.inner_converged},
-        {"inner_iterations", r.solver.inner_iterations},
-        {"repeated_steps", r.solver.repeated_steps},
-        {"coarse_start", coarse_start},
-        {"energy",
-         {{"first", number_or_null(r.solver.energy_first)},
-          {"last", number_or_null(r.solver.energy_last)},
-          {"trace", energy_trace}}}}},
+      {"holes", holes_json(r)},
+      {"solver", solver_json(r)},
       {"pattern",
        {{"spots", r.pattern.spots},
         {"closed_small_holes", r.pattern.closed_small_holes},

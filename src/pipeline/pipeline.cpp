@@ -141,6 +141,262 @@ void reduce_output(MeshOutput& out, const Options& options, double wall_mm, cons
                     out.reduction->triangles_after, rounded_down(0.25 * wall_mm)));
 }
 
+// One run's stages in order (run_pipeline), and what each hands to the next.
+class PipelineRun {
+ public:
+  PipelineRun(const Input& input, const PreparedInput& prepared, RunMonitor& monitor)
+      : input_(input),
+        prepared_(prepared),
+        monitor_(monitor),
+        placed_(prepared.placed),
+        options_(prepared.options),
+        // The run's clock counts the input's preparation too.
+        start_(std::chrono::steady_clock::now() -
+               std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                   std::chrono::duration<double>(prepared.seconds))) {
+    result_.threads = tbb::this_task_arena::max_concurrency();
+    const Options& given = prepared.given;
+    result_.requested_holes = {given.hole_diameter, given.spacing, given.porosity};
+    result_.plan = prepared.plan;
+  }
+
+  void read_input() {
+    monitor_.stage("input");
+    const auto t = std::chrono::steady_clock::now();
+    features_ = result_.plan ? feature_zones(options_, placed_, result_.plan->diameter) : FeatureZones{};
+    result_.input = placed_.input;
+    result_.input.thin_vertices = features_.thin_vertices;
+    result_.input.crease_edges = features_.crease_edges;
+    result_.solid.mode = options_.mode == Mode::shell ? "shell" : "narrow-volume";
+    result_.seconds_input = prepared_.seconds + seconds_since(t);
+    grid_.emplace(Grid::fitted(placed_.domain, placed_.resolution));
+    result_.grid_dims = grid_->dims();
+    result_.h = grid_->h();
+    check_run_fits(estimate_run_cost(prepared_, false), prepared_);
+    // The wall: asked for (shell); 2 mm where holes are asked in mm, so that it does not follow the hole
+    // map's voxel; else the band's width 2 delta (the paper's parameters, the narrow volume).
+    const WallChoice wall =
+        choose_wall(options_, result_.plan.has_value(), grid_->h() * placed_.mm_per_grid());
+    result_.solid.wall_mm = wall.mm;
+    result_.solid.wall_source = wall.source;
+    check_reduction(options_, result_.solid.wall_mm);
+    if (options_.grade && options_.grade->kind == Grade::Kind::field)
+      grade_field_ = input_vertex_field(input_, options_.grade->field, "grade");
+    if (!options_.keep_out_mask.empty())
+      mask_ = input_vertex_field(input_, options_.keep_out_mask, "keep_out_mask");
+  }
+
+  void build_band() {
+    monitor_.stage("band");
+    const auto t = std::chrono::steady_clock::now();
+    BandOptions band_options;
+    band_options.progress = StageProgress(monitor_);
+    // Measured on distances to meshes, shapes and splats; a sampled level set's gradient is its samples'.
+    if (options_.preview && placed_.surface->closest_point_is_exact())
+      band_options.gradient_bound = kLikelyGradientBound;
+    band_options.surface_layer = builds_surface_layer(options_, placed_);
+    band_.emplace(poreshell::build_band(*placed_.surface, *grid_, band_options));
+    release_free_memory();
+    result_.seconds_band = seconds_since(t);
+    result_.peak_rss_after_band = peak_rss_bytes();
+    result_.band_voxels = band_->size();
+    result_.ghosts = band_->ghost_count();
+    result_.band_stats = band_->stats();
+    result_.band_bytes = band_->memory_bytes();
+    result_.zone_areas = zone_areas(options_, placed_, *band_, features_, mask_);
+  }
+
+  void solve() {
+    monitor_.stage("solve");
+    const auto t = std::chrono::steady_clock::now();
+    const NarrowBand& band = *band_;
+    const SolidZones zones = [&](const NarrowBand& b, double epsilon) {
+      return solid_zones(options_, placed_, b, epsilon, mask_, features_);
+    };
+    solved_ = solve_pattern(options_, result_.plan, placed_, *grid_, band, zones, monitor_);
+    result_.model = solved_.model;
+    result_.dt = solved_.dt;
+    result_.solver_name = solved_.solver_name;
+    result_.inner_iteration = solved_.inner_iteration;
+    result_.run = solved_.run;
+    result_.coarse_start = solved_.coarse_start;
+    result_.solver_bytes = solved_.solver_bytes;
+    result_.seconds_solve = seconds_since(t);
+    result_.peak_rss_after_solve = peak_rss_bytes();
+    result_.stop_rule = solved_.stop_rule;
+    result_.layout = solved_.layout;
+    result_.layout_holes = solved_.layout_holes;
+    phi_ = std::move(solved_.phi);
+    // A preview closes these too, and the discs the run would close (spot_rules.cpp); a surface
+    // layer (band_options) also shows slivers of a disc's edge where it is a voxel thin.
+    const bool unevolved = options_.preview && result_.run.steps == 0;  // the even layout's discs as placed
+    if (result_.plan) {
+      const SpotRuleCounts fixed =
+          apply_spot_rules(band, phi_, *result_.plan, placed_, options_.rim, unevolved);
+      result_.closed_small_holes = fixed.closed_small;
+      result_.rounded_oblong_holes = fixed.rounded_oblong;
+      result_.closed_oblong_holes = fixed.closed_oblong;
+      result_.closed_rim_holes = fixed.closed_in_rim;
+    }
+    result_.spots = spot_statistics(band, phi_, 0.0);
+    // Before a preview's output too, so that it shows the sizes asked where they are asked: on the layout's
+    // discs as placed, whose profile is not the equation's pores'.
+    if (options_.grade)
+      result_.grading =
+          grade_holes(*options_.grade, grade_field_, placed_, band, *result_.plan, phi_,
+                      unevolved ? disc_levels(*result_.plan) : LevelForRatio(level_for_diameter_ratio));
+  }
+
+  PipelineResult preview() {
+    preview_output(options_.iso.front(), options_, placed_, *band_, phi_, solved_.zone_weight, result_,
+                   monitor_);
+    return finish();
+  }
+
+  // The shell's samples (shell mode), and what the band and phi tell about each level before meshing: in
+  // shell mode the band is then freed (half a gigabyte at 6 M band voxels), as the meshes need only the
+  // samples.
+  void sample_shell() {
+    monitor_.stage("shell");
+    mesh_start_ = std::chrono::steady_clock::now();
+    const NarrowBand& band = *band_;
+    if (shell_mode()) {
+      make_side_test(options_.offset, placed_, grid_->h(), side_);
+      shell_ = sample_printable_shell(options_, placed_, band, phi_, side_.side, result_,
+                                      StageProgress(monitor_, 0.0, 0.6));
+    } else {
+      result_.solid.spacing_mm = grid_->h() * placed_.mm_per_grid();
+    }
+    result_.solid.offset = to_string(options_.offset);
+    monitor_.check();
+    for (double iso : options_.iso) {
+      MeshOutput out;
+      out.iso = iso;
+      out.holes = hole_stats_mm(band, phi_, iso, placed_, solved_.zone_weight);
+      out.spots_at_iso = static_cast<std::int64_t>(out.holes.holes.size());  // every spot is a hole
+      result_.meshes.push_back(std::move(out));
+      monitor_.advance(0.65);
+    }
+    if (shell_mode()) {
+      for (double iso : options_.iso)
+        probes_.push_back(
+            wall_probes(placed_, band, phi_, iso, result_.solid.wall_mm, options_.offset, side_.side));
+      monitor_.advance(0.7);
+    }
+    // The unperforated solid gives the reference Euler characteristic: each pore is one tunnel, so
+    // pores = (chi0 - chi) / 2. Computed, not derived from the input's topology, because the band closes
+    // holes narrower than about 2 delta (a scan's small holes) and may merge close sheets; counted from the
+    // samples (isosurface_euler_characteristic), not from a mesh that is not made.
+    if (shell_mode()) {
+      phi_ = {};
+      solved_.zone_weight = {};
+      band_.reset();
+      release_free_memory();
+      result_.unperforated_euler = unperforated_shell_euler(*shell_, StageProgress(monitor_, 0.7, 1.0));
+    } else {
+      const std::vector<double> solid(band.size(), -1.0);
+      result_.unperforated_euler = narrow_volume_euler(band, solid, 0.0);
+    }
+  }
+
+  // Every level meshed and checked before any is handed out.
+  void mesh() {
+    monitor_.stage("mesh");
+    // For the voids' test, past the samples, in a fraction of their bytes.
+    const SolidWallPoints wall_solid = shell_ ? solid_wall_points(*shell_) : SolidWallPoints{};
+    const auto levels = static_cast<double>(options_.iso.size());
+    for (std::size_t level = 0; level < options_.iso.size(); ++level) {
+      // Each level's share of the stage: the isosurface, the reduction if asked, the checks.
+      const StageProgress share(monitor_, static_cast<double>(level) / levels,
+                                static_cast<double>(level + 1) / levels);
+      mesh_level(result_.meshes[level], wall_solid, share, level + 1 == options_.iso.size());
+    }
+  }
+
+  // Every level is printable: now its holes and wall are measured on the mesh (the stage `holes` that
+  // Progress documents; it reads only the meshes, the probes and the placement).
+  void measure_holes() {
+    monitor_.stage("holes");
+    for (std::size_t level = 0; level < options_.iso.size(); ++level) {
+      MeshOutput& out = result_.meshes[level];
+      if (shell_mode()) out.wall = measure_wall(out.mesh, probes_[level], 4.0 * result_.solid.wall_mm);
+      monitor_.check();
+      out.hole_table = output_hole_table(out.mesh, out.holes, placed_, grid_->h(), result_.solid.wall_mm,
+                                         result_.solid.spacing_mm,
+                                         shell_mode() ? options_.offset : WallOffset::centered, side_.side);
+      out.spots_at_open_edge = spots_at_open_edge(out.hole_table, out.holes, placed_, result_.solid.wall_mm);
+      std::vector<HoleDisc> discs;
+      for (const HoleRecord& h : out.hole_table.holes) discs.push_back({h.centre, h.diameter});
+      out.zones = check_zones(discs, options_, placed_);
+      monitor_.advance(static_cast<double>(level + 1) / static_cast<double>(options_.iso.size()));
+    }
+    result_.seconds_mesh = seconds_since(mesh_start_);
+  }
+
+  PipelineResult finish() {
+    result_.seconds_total = seconds_since(start_);
+    result_.peak_rss_total = peak_rss_bytes();
+    monitor_.advance(1.0, {}, 0, true);
+    return std::move(result_);
+  }
+
+ private:
+  bool shell_mode() const { return options_.mode == Mode::shell; }
+
+  // One level (`last`: the samples are freed after it): the isosurface (from the shell's samples, or the
+  // narrow volume's band), in mm, its cavities filled, reduced, checked printable, its pores counted.
+  void mesh_level(MeshOutput& out, const SolidWallPoints& wall_solid, const StageProgress& share, bool last) {
+    // By default the mesh is reduced as far as `max_deviation` allows (issue 49); `max_triangles` asks
+    // for a count as well, and a reduction to a count starts from the chamfered surface (shell_mesh()).
+    // The reduction costs several times the isosurface: it gets most of the share, so that the time
+    // left said during it holds (docs/benchmarks.md "Time left during a reduction").
+    const bool reducing = options_.max_deviation > 0.0;
+    const double meshed = reducing ? 0.15 : 0.6, reduced = reducing ? 0.95 : 0.6,
+                 checked = reducing ? 0.97 : 0.9;
+    out.mesh = shell_mode()
+                   ? shell_mesh(*shell_, out.iso, share.part(0.0, meshed), options_.max_triangles == 0)
+                   : narrow_volume_mesh(*band_, phi_, out.iso);
+    if (last) shell_.reset();  // the samples, before the checks
+    share.advance(meshed);
+    for (Vec3& v : out.mesh.vertices) v = placed_.to_mm(v);
+    // A cavity in a perforated solid is a pocket of the inside that no pore reaches: filled (issue 51).
+    // Without pores the inside is the shell's own, kept; keep_fragments keeps everything.
+    if (!options_.keep_fragments)
+      out.parts = keep_main_parts(out.mesh, options_.min_part_fraction, out.spots_at_iso > 0);
+    const std::int64_t wall_voids =
+        shell_mode()
+            ? wall_voids_euler(out.parts, wall_solid, [&](const Vec3& p) { return placed_.from_mm(p); })
+            : 0;
+    if (reducing) reduce_output(out, options_, result_.solid.wall_mm, share.part(meshed, reduced));
+    // A reduction checked its result already.
+    out.topology = out.reduction && out.reduction->topology
+                       ? *out.reduction->topology
+                       : analyze_topology(out.mesh, share.part(reduced, checked));
+    out.pores_from_euler = (result_.unperforated_euler - wall_voids - out.topology.euler_characteristic) / 2;
+    check_printable(out.topology, out.iso);
+    share.advance(1.0);
+  }
+
+  const Input& input_;
+  const PreparedInput& prepared_;
+  RunMonitor& monitor_;
+  const PlacedSurface& placed_;
+  Options options_;
+  const std::chrono::steady_clock::time_point start_;
+  std::chrono::steady_clock::time_point mesh_start_;
+  PipelineResult result_;
+  FeatureZones features_;
+  std::optional<Grid> grid_;
+  std::function<double(const Vec3&)> grade_field_, mask_;
+  std::optional<NarrowBand>
+      band_;  // freed before meshing in shell mode, the stage with the largest footprint
+  SolveResult solved_;
+  std::vector<double> phi_;
+  SideTest side_;
+  std::optional<ShellSamples> shell_;  // freed once the last level is meshed
+  std::vector<std::vector<WallProbe>> probes_;
+};
+
 }  // namespace
 
 PreparedInput prepare_input(const Input& input, const Options& given) {
@@ -176,211 +432,15 @@ PipelineResult run_pipeline(const Input& input, const Options& given, RunMonitor
 
 PipelineResult run_pipeline(const Input& input, const PreparedInput& prepared, RunMonitor& monitor) {
   keep_large_blocks_mapped();
-  // The run's clock counts the input's preparation too.
-  const auto start =
-      std::chrono::steady_clock::now() - std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                             std::chrono::duration<double>(prepared.seconds));
-  PipelineResult result;
-  result.threads = tbb::this_task_arena::max_concurrency();
-  Options options = prepared.options;
-  const Options& given = prepared.given;
-  result.requested_holes = {given.hole_diameter, given.spacing, given.porosity};
-  result.plan = prepared.plan;
-
-  monitor.stage("input");
-  auto t = std::chrono::steady_clock::now();
-  const PlacedSurface& placed = prepared.placed;
-  const FeatureZones features =
-      result.plan ? feature_zones(options, placed, result.plan->diameter) : FeatureZones{};
-  result.input = placed.input;
-  result.input.thin_vertices = features.thin_vertices;
-  result.input.crease_edges = features.crease_edges;
-  result.solid.mode = options.mode == Mode::shell ? "shell" : "narrow-volume";
-  result.seconds_input = prepared.seconds + seconds_since(t);
-  const Grid grid = Grid::fitted(placed.domain, placed.resolution);
-  result.grid_dims = grid.dims();
-  result.h = grid.h();
-  check_run_fits(estimate_run_cost(prepared, false), prepared);
-  // The wall: asked for (shell); 2 mm where holes are asked in mm, so that it does not follow the hole
-  // map's voxel; else the band's width 2 delta (the paper's parameters, the narrow volume).
-  const WallChoice wall = choose_wall(options, result.plan.has_value(), grid.h() * placed.mm_per_grid());
-  result.solid.wall_mm = wall.mm;
-  result.solid.wall_source = wall.source;
-  check_reduction(options, result.solid.wall_mm);
-  const std::optional<Grade>& grade = options.grade;
-  std::function<double(const Vec3&)> grade_field, mask;
-  if (grade && grade->kind == Grade::Kind::field)
-    grade_field = input_vertex_field(input, grade->field, "grade");
-  if (!options.keep_out_mask.empty())
-    mask = input_vertex_field(input, options.keep_out_mask, "keep_out_mask");
-
-  monitor.stage("band");
-  t = std::chrono::steady_clock::now();
-  // Optional so that shell mode can free it before meshing, the stage with the largest footprint.
-  BandOptions band_options;
-  band_options.progress = StageProgress(monitor);
-  // Measured on distances to meshes, shapes and splats; a sampled level set's gradient is its samples'.
-  if (options.preview && placed.surface->closest_point_is_exact())
-    band_options.gradient_bound = kLikelyGradientBound;
-  band_options.surface_layer = builds_surface_layer(options, placed);
-  std::optional<NarrowBand> band_storage(build_band(*placed.surface, grid, band_options));
-  const NarrowBand& band = *band_storage;
-  release_free_memory();
-  result.seconds_band = seconds_since(t);
-  result.peak_rss_after_band = peak_rss_bytes();
-  result.band_voxels = band.size();
-  result.ghosts = band.ghost_count();
-  result.band_stats = band.stats();
-  result.band_bytes = band.memory_bytes();
-  result.zone_areas = zone_areas(options, placed, band, features, mask);
-
-  monitor.stage("solve");
-  t = std::chrono::steady_clock::now();
-  const SolidZones zones = [&](const NarrowBand& b, double epsilon) {
-    return solid_zones(options, placed, b, epsilon, mask, features);
-  };
-  SolveResult solved = solve_pattern(options, result.plan, placed, grid, band, zones, monitor);
-  result.model = solved.model;
-  result.dt = solved.dt;
-  result.solver_name = solved.solver_name;
-  result.inner_iteration = solved.inner_iteration;
-  result.run = solved.run;
-  result.coarse_start = solved.coarse_start;
-  result.solver_bytes = solved.solver_bytes;
-  result.seconds_solve = seconds_since(t);
-  result.peak_rss_after_solve = peak_rss_bytes();
-  result.stop_rule = solved.stop_rule;
-  result.layout = solved.layout;
-  result.layout_holes = solved.layout_holes;
-  std::vector<double> phi = std::move(solved.phi);
-  // A preview closes these too, and the discs the run would close (spot_rules.cpp); a surface
-  // layer (band_options) also shows slivers of a disc's edge where it is a voxel thin.
-  const bool unevolved = options.preview && result.run.steps == 0;  // the even layout's discs as placed
-  if (result.plan) {
-    const SpotRuleCounts fixed = apply_spot_rules(band, phi, *result.plan, placed, options.rim, unevolved);
-    result.closed_small_holes = fixed.closed_small;
-    result.rounded_oblong_holes = fixed.rounded_oblong;
-    result.closed_oblong_holes = fixed.closed_oblong;
-    result.closed_rim_holes = fixed.closed_in_rim;
-  }
-  result.spots = spot_statistics(band, phi, 0.0);
-  // Before a preview's output too, so that it shows the sizes asked where they are asked: on the layout's
-  // discs as placed, whose profile is not the equation's pores'.
-  if (grade)
-    result.grading =
-        grade_holes(*grade, grade_field, placed, band, *result.plan, phi,
-                    unevolved ? disc_levels(*result.plan) : LevelForRatio(level_for_diameter_ratio));
-  if (options.preview) {
-    preview_output(options.iso.front(), options, placed, band, phi, solved.zone_weight, result, monitor);
-    result.seconds_total = seconds_since(start);
-    result.peak_rss_total = peak_rss_bytes();
-    monitor.advance(1.0, {}, 0, true);
-    return result;
-  }
-
-  // Build and check every mesh before handing any out.
-  monitor.stage("shell");
-  t = std::chrono::steady_clock::now();
-  SideTest side;
-  const bool shell_mode = options.mode == Mode::shell;
-  std::optional<ShellSamples> shell;  // freed once the last level is meshed
-  if (shell_mode) {
-    make_side_test(options.offset, placed, grid.h(), side);
-    shell = sample_printable_shell(options, placed, band, phi, side.side, result,
-                                   StageProgress(monitor, 0.0, 0.6));
-  } else {
-    result.solid.spacing_mm = grid.h() * placed.mm_per_grid();
-  }
-  result.solid.offset = to_string(options.offset);
-  monitor.check();
-  // What the band and phi tell about each level, before meshing: in shell mode the band is then freed
-  // (half a gigabyte at 6 M band voxels), as the meshes need only the shell's samples.
-  for (double iso : options.iso) {
-    MeshOutput out;
-    out.iso = iso;
-    out.holes = hole_stats_mm(band, phi, iso, placed, solved.zone_weight);
-    out.spots_at_iso = static_cast<std::int64_t>(out.holes.holes.size());  // every spot is a hole
-    result.meshes.push_back(std::move(out));
-    monitor.advance(0.65);
-  }
-  std::vector<std::vector<WallProbe>> probes;
-  if (shell_mode) {
-    for (double iso : options.iso)
-      probes.push_back(wall_probes(placed, band, phi, iso, result.solid.wall_mm, options.offset, side.side));
-    monitor.advance(0.7);
-    phi = {};
-    solved.zone_weight = {};
-    band_storage.reset();  // `band` is not used below in shell mode
-    release_free_memory();
-  }
-  // The unperforated solid gives the reference Euler characteristic: each pore is one tunnel, so
-  // pores = (chi0 - chi) / 2. Computed, not derived from the input's topology, because the band closes
-  // holes narrower than about 2 delta (a scan's small holes) and may merge close sheets; counted from the
-  // samples (isosurface_euler_characteristic), not from a mesh that is not made.
-  if (shell_mode) {
-    result.unperforated_euler = unperforated_shell_euler(*shell, StageProgress(monitor, 0.7, 1.0));
-  } else {
-    const std::vector<double> solid(band.size(), -1.0);
-    result.unperforated_euler = narrow_volume_euler(band, solid, 0.0);
-  }
-  monitor.stage("mesh");
-  // For the voids' test below, past the samples, in a fraction of their bytes.
-  const SolidWallPoints wall_solid = shell ? solid_wall_points(*shell) : SolidWallPoints{};
-  for (std::size_t level = 0; level < options.iso.size(); ++level) {
-    // Each level's share of the stage: the isosurface, the reduction if asked, the checks.
-    const auto levels = static_cast<double>(options.iso.size());
-    const StageProgress share(monitor, static_cast<double>(level) / levels,
-                              static_cast<double>(level + 1) / levels);
-    // By default the mesh is reduced as far as `max_deviation` allows (issue 49); `max_triangles` asks
-    // for a count as well, and a reduction to a count starts from the chamfered surface (shell_mesh()).
-    // The reduction costs several times the isosurface: it gets most of the share, so that the time
-    // left said during it holds (docs/benchmarks.md "Time left during a reduction").
-    const bool reducing = options.max_deviation > 0.0;
-    const double meshed = reducing ? 0.15 : 0.6, reduced = reducing ? 0.95 : 0.6,
-                 checked = reducing ? 0.97 : 0.9;
-    MeshOutput& out = result.meshes[level];
-    out.mesh = shell_mode ? shell_mesh(*shell, out.iso, share.part(0.0, meshed), options.max_triangles == 0)
-                          : narrow_volume_mesh(band, phi, out.iso);
-    if (level + 1 == options.iso.size()) shell.reset();  // the samples, before the checks
-    share.advance(meshed);
-    for (Vec3& v : out.mesh.vertices) v = placed.to_mm(v);
-    // A cavity in a perforated solid is a pocket of the inside that no pore reaches: filled (issue 51).
-    // Without pores the inside is the shell's own, kept; keep_fragments keeps everything.
-    if (!options.keep_fragments)
-      out.parts = keep_main_parts(out.mesh, options.min_part_fraction, out.spots_at_iso > 0);
-    const std::int64_t wall_voids =
-        shell_mode ? wall_voids_euler(out.parts, wall_solid, [&](const Vec3& p) { return placed.from_mm(p); })
-                   : 0;
-    if (reducing) reduce_output(out, options, result.solid.wall_mm, share.part(meshed, reduced));
-    // A reduction checked its result already.
-    out.topology = out.reduction && out.reduction->topology
-                       ? *out.reduction->topology
-                       : analyze_topology(out.mesh, share.part(reduced, checked));
-    out.pores_from_euler = (result.unperforated_euler - wall_voids - out.topology.euler_characteristic) / 2;
-    check_printable(out.topology, out.iso);
-    share.advance(1.0);
-  }
-  // Every level is printable: now its holes and wall are measured on the mesh (the stage `holes` that
-  // Progress documents; it reads only the meshes, the probes and the placement).
-  monitor.stage("holes");
-  for (std::size_t level = 0; level < options.iso.size(); ++level) {
-    MeshOutput& out = result.meshes[level];
-    if (shell_mode) out.wall = measure_wall(out.mesh, probes[level], 4.0 * result.solid.wall_mm);
-    monitor.check();
-    out.hole_table = output_hole_table(out.mesh, out.holes, placed, grid.h(), result.solid.wall_mm,
-                                       result.solid.spacing_mm,
-                                       shell_mode ? options.offset : WallOffset::centered, side.side);
-    out.spots_at_open_edge = spots_at_open_edge(out.hole_table, out.holes, placed, result.solid.wall_mm);
-    std::vector<HoleDisc> discs;
-    for (const HoleRecord& h : out.hole_table.holes) discs.push_back({h.centre, h.diameter});
-    out.zones = check_zones(discs, options, placed);
-    monitor.advance(static_cast<double>(level + 1) / static_cast<double>(options.iso.size()));
-  }
-  result.seconds_mesh = seconds_since(t);
-  result.seconds_total = seconds_since(start);
-  result.peak_rss_total = peak_rss_bytes();
-  monitor.advance(1.0, {}, 0, true);
-  return result;
+  PipelineRun run(input, prepared, monitor);
+  run.read_input();
+  run.build_band();
+  run.solve();
+  if (prepared.options.preview) return run.preview();
+  run.sample_shell();
+  run.mesh();
+  run.measure_holes();
+  return run.finish();
 }
 
 }  // namespace poreshell

@@ -47,6 +47,49 @@ LevelReport level_report(const MeshOutput& m) {
   return l;
 }
 
+// What the designer should hear of: a rule that empties the model, a keep-out that keeps nothing, a
+// reduction that was given up.
+void add_warnings(const PipelineResult& r, const Options& options, Report& report) {
+  const ZoneAreas& z = r.zone_areas;
+  // Issue 51: a rule that empties the model is news, said with the share each rule keeps solid.
+  const auto share = [&](double area) { return z.surface > 0.0 ? 100.0 * area / z.surface : 0.0; };
+  if (report.plan)
+    for (const LevelReport& l : report.outputs)
+      if (l.holes.porosity < 0.6 * report.plan->porosity)
+        report.warnings.push_back(fmt::format(
+            "the holes open {:.1f}% of the surface against the {:.1f}% asked (under 60% of it): the solid "
+            "zones "
+            "keep {:.0f}% of the surface (thin parts {:.0f}%, creases {:.0f}%, rims {:.0f}%, keep-outs "
+            "{:.0f}%); lower `thin_feature_ratio` or `crease_angle`, or narrow `rim`, to open more",
+            100.0 * l.holes.porosity, 100.0 * report.plan->porosity, share(z.solid), share(z.thin),
+            share(z.creases), share(z.rims), share(z.keep_outs)));
+  // Issue 51: a keep-out that keeps none of the surface is most likely in another frame or unit. One
+  // outside the model's bounds the estimate names before the run (estimate.cpp).
+  for (std::size_t k = 0; k < z.each_keep_out.size(); ++k) {
+    if (z.each_keep_out[k].area > 0.0 || z.each_keep_out[k].outside_bounds) continue;
+    std::string which;
+    if (k < options.keep_out.size()) {
+      const KeepOutSphere& ball = options.keep_out[k];
+      which = fmt::format("`keep_out` {:g},{:g},{:g},{:g}", ball.centre[0], ball.centre[1], ball.centre[2],
+                          ball.radius);
+    } else {
+      const KeepOutBox& b = options.keep_out_boxes[k - options.keep_out.size()];
+      which = fmt::format("`keep_out_boxes` {:g},{:g},{:g},{:g},{:g},{:g}", b.min[0], b.min[1], b.min[2],
+                          b.max[0], b.max[1], b.max[2]);
+    }
+    report.warnings.push_back(fmt::format(
+        "{} keeps none of the model's surface, which comes no nearer than {} mm to it; give it in the "
+        "input's frame, in mm, over the part to keep solid",
+        which, readable(z.each_keep_out[k].gap_mm)));
+  }
+  for (const MeshOutput& m : r.meshes)
+    if (!m.reduction_skipped.empty())
+      report.warnings.push_back(fmt::format(
+          "the output at iso {:g} is the full isosurface, {} triangles: its reduction within `max_deviation` "
+          "failed a check ({}); `max_triangles` asks for a count, `max_deviation` 0 for the full mesh",
+          m.iso, m.mesh.triangles.size(), m.reduction_skipped));
+}
+
 }  // namespace
 
 Report make_report(const PipelineResult& r, const Options& options) {
@@ -130,43 +173,7 @@ Report make_report(const PipelineResult& r, const Options& options) {
   for (const MeshOutput& m : r.meshes) report.outputs.push_back(level_report(m));
   const ZoneAreas& z = r.zone_areas;
   report.solid_zones = {z.surface, z.thin, z.creases, z.rims, z.keep_outs, z.solid};
-  // Issue 51: a rule that empties the model is news, said with the share each rule keeps solid.
-  const auto share = [&](double area) { return z.surface > 0.0 ? 100.0 * area / z.surface : 0.0; };
-  if (report.plan)
-    for (const LevelReport& l : report.outputs)
-      if (l.holes.porosity < 0.6 * report.plan->porosity)
-        report.warnings.push_back(fmt::format(
-            "the holes open {:.1f}% of the surface against the {:.1f}% asked (under 60% of it): the solid "
-            "zones "
-            "keep {:.0f}% of the surface (thin parts {:.0f}%, creases {:.0f}%, rims {:.0f}%, keep-outs "
-            "{:.0f}%); lower --thin-features or --crease-angle, or narrow --rim, to open more",
-            100.0 * l.holes.porosity, 100.0 * report.plan->porosity, share(z.solid), share(z.thin),
-            share(z.creases), share(z.rims), share(z.keep_outs)));
-  // Issue 51: a keep-out that keeps none of the surface is most likely in another frame or unit. One
-  // outside the model's bounds the estimate names before the run (estimate.cpp).
-  for (std::size_t k = 0; k < z.each_keep_out.size(); ++k) {
-    if (z.each_keep_out[k].area > 0.0 || z.each_keep_out[k].outside_bounds) continue;
-    std::string which;
-    if (k < options.keep_out.size()) {
-      const KeepOutSphere& ball = options.keep_out[k];
-      which = fmt::format("`keep_out` {:g},{:g},{:g},{:g}", ball.centre[0], ball.centre[1], ball.centre[2],
-                          ball.radius);
-    } else {
-      const KeepOutBox& b = options.keep_out_boxes[k - options.keep_out.size()];
-      which = fmt::format("`keep_out_boxes` {:g},{:g},{:g},{:g},{:g},{:g}", b.min[0], b.min[1], b.min[2],
-                          b.max[0], b.max[1], b.max[2]);
-    }
-    report.warnings.push_back(fmt::format(
-        "{} keeps none of the model's surface, which comes no nearer than {} mm to it; give it in the "
-        "input's frame, in mm, over the part to keep solid",
-        which, readable(z.each_keep_out[k].gap_mm)));
-  }
-  for (const MeshOutput& m : r.meshes)
-    if (!m.reduction_skipped.empty())
-      report.warnings.push_back(fmt::format(
-          "the output at iso {:g} is the full isosurface, {} triangles: its reduction within `max_deviation` "
-          "failed a check ({}); `max_triangles` asks for a count, `max_deviation` 0 for the full mesh",
-          m.iso, m.mesh.triangles.size(), m.reduction_skipped));
+  add_warnings(r, options, report);
   report.unperforated_euler_characteristic = r.unperforated_euler;
   report.memory = {static_cast<std::int64_t>(r.band_bytes), static_cast<std::int64_t>(r.solver_bytes),
                    static_cast<std::int64_t>(r.peak_rss_after_band),

@@ -61,13 +61,14 @@ ShellSamples sample_shell(const Surface& surface, const NarrowBand& band, std::s
   // A grid of spacing h around the surface's box, spare cells beyond the reach on every side. Where the
   // surface touches its box (a flat sheet's plane, a sphere's pole, a sleeve's cut end), the wall's faces
   // lie at box.min - |c| - t/2 plus multiples of t, and a trim line's end face at box.min itself. On a
-  // grid plane F is 0 at grid points (a point on the surface counts as outside): the isosurface's
-  // crossings, kept kSnap = 0.05 of an edge from a grid point, move such a face by 0.05 h (a 2 mm wall
-  // at h = t/3 measured 1.933 mm on a flat sheet), and where an end face meets the wall's faces no crease
-  // point can be made (isosurface.hpp), so that edge stays chamfered (up to 0.4 mm on a 2.5 mm sleeve
-  // whose ends lay on grid planes with half a cell here). A quarter cell puts the faces a quarter cell
-  // from the grid planes, and the box's own planes, |c| + t/2 = 1.5 h or 3 h further at h = t/3 (the
-  // refined spacing), a quarter or three quarters: all cross their edges well inside the clamp. (On the
+  // grid plane F is 0 at grid points (a point on the surface counts as outside): a face there has no
+  // crossing inside any edge, only clamped ones kSnap = 0.05 of an edge off it, which moved such a face
+  // by 0.05 h (a 2 mm wall at h = t/3 measured 1.933 mm on a flat sheet, before clamped crossings were
+  // moved back onto the surface, edge_crossings.hpp; not measured since), and where an end face meets the
+  // wall's faces no crease point can be made (isosurface.hpp), so that edge stays chamfered (up to 0.4 mm
+  // on a 2.5 mm sleeve whose ends lay on grid planes with half a cell here). A quarter cell puts the faces a
+  // quarter cell from the grid planes, and the box's own planes, |c| + t/2 = 1.5 h or 3 h further at h = t/3
+  // (the refined spacing), a quarter or three quarters: all cross their edges well inside the clamp. (On the
   // band's grid, used as it is, that holds only by chance.)
   const Box box = surface.bounds();
   const Vec3 margin = Vec3::Constant(std::abs(center_offset) + 0.5 * t + kMarginCells * h);

@@ -208,6 +208,8 @@ std::string repeated(const std::string& line, std::size_t n) {
   return s;
 }
 
+// Every bad input, one row each (docs/reliability.md numbers them): as long as the cases are many, and
+// kept whole so that the table reads as one list.
 std::vector<Row> rows() {
   const std::string ascii_tet =
       "solid t\n"
