@@ -195,9 +195,13 @@ ZoneAreas zone_areas(const Options& c, const PlacedSurface& placed, const Narrow
   const double mm = placed.mm_per_grid(), grid_per_mm = 1.0 / mm;
   std::vector<Vec3> foot(band.size());
   std::vector<double> area(band.size());
+  std::vector<char> thin(band.size(), 0), masked(band.size(), 0);
   tbb::parallel_for(std::size_t{0}, band.size(), [&](std::size_t v) {
     area[v] = band.surface_area(v) * mm * mm;
-    foot[v] = area[v] > 0.0 ? band.closest_point(v) : Vec3::Constant(std::numeric_limits<double>::infinity());
+    foot[v] = band.closest_point(v);
+    if (!(area[v] > 0.0)) return;  // no share of the surface: no rule to ask
+    thin[v] = features.thin && features.thin(foot[v]) >= 0.5;
+    masked[v] = mask && mask(placed.to_mm(foot[v])) >= 0.5;
   });
   const auto near = [&](std::span<const Segment> segments, double width) {
     std::vector<char> in(foot.size(), 0);
@@ -224,9 +228,8 @@ ZoneAreas zone_areas(const Options& c, const PlacedSurface& placed, const Narrow
   }
   for (std::size_t v = 0; v < foot.size(); ++v) {
     if (!(area[v] > 0.0)) continue;
-    const bool thin = features.thin && features.thin(foot[v]) >= 0.5;
     const Vec3 x = placed.to_mm(foot[v]);
-    bool kept = mask && mask(x) >= 0.5;
+    bool kept = masked[v];
     std::size_t k = 0;
     const auto keep_out = [&](double outside) {  // x's distance outside keep-out k, negative inside
       ZoneAreas::KeepOutReach& reach = areas.each_keep_out[k++];
@@ -238,11 +241,11 @@ ZoneAreas zone_areas(const Options& c, const PlacedSurface& placed, const Narrow
     for (const KeepOutBox& box : c.keep_out_boxes)
       keep_out(box_distance(x, SolidBox::spanned(vec(box.min), vec(box.max))));
     areas.surface += area[v];
-    areas.thin += thin ? area[v] : 0.0;
+    areas.thin += thin[v] ? area[v] : 0.0;
     areas.creases += creases[v] ? area[v] : 0.0;
     areas.rims += rims[v] ? area[v] : 0.0;
     areas.keep_outs += kept ? area[v] : 0.0;
-    areas.solid += thin || creases[v] || rims[v] || kept ? area[v] : 0.0;
+    areas.solid += thin[v] || creases[v] || rims[v] || kept ? area[v] : 0.0;
   }
   return areas;
 }
