@@ -56,8 +56,8 @@ int main(int argc, char** argv) {
           "spots, "
           "size CV {:.3f}, spacing CV {:.3f}\n",
           solvers[s], name, seed, r.grid_dims[0], r.grid_dims[1], r.grid_dims[2], r.band_voxels,
-          r.seconds_input, r.seconds_band, r.seconds_solve, r.run.steps,
-          r.seconds_solve / std::max(1, r.run.steps), r.seconds_mesh, r.seconds_total,
+          r.seconds_input, r.seconds_band, r.seconds_solve, r.solve.run.steps,
+          r.seconds_solve / std::max(1, r.solve.run.steps), r.seconds_mesh, r.seconds_total,
           static_cast<double>(r.peak_rss_after_solve) / (1024.0 * 1024.0), r.spots.count, r.spots.size_cv,
           r.spots.spacing_cv);
       std::fflush(stdout);

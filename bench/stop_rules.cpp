@@ -193,7 +193,7 @@ void compare(const std::vector<std::string>& cases, int seeds, int every) {
         p.layout = Layout::paper;  // the even layout's preview runs no equation
         const PipelineResult r = run_pipeline(c.input, p, unmonitored());
         fmt::print("    pipeline, holes rule (default): {} steps, {} holes, worst hole {:.3f} spacing\n",
-                   r.run.steps, r.meshes[0].holes.holes.size(),
+                   r.solve.run.steps, r.meshes[0].holes.holes.size(),
                    largest_nearest_distance(
                        [&] {
                          std::vector<Vec3> v;

@@ -14,6 +14,7 @@
 #include "geometry/refine.hpp"
 #include "input/placement.hpp"
 #include "pattern/hole_map.hpp"
+#include "pattern/solid_zones.hpp"
 #include "pipeline/pipeline.hpp"
 #include "pipeline/run_cost.hpp"
 #include "pipeline/validate.hpp"
@@ -62,27 +63,15 @@ void size_warnings(const Estimate& e, const Input& input, const Options& o, std:
 void keep_out_warnings(const Options& o, const PlacedSurface& placed, std::vector<std::string>& out) {
   const Box box = placed.surface->bounds();
   const Vec3 low = placed.to_mm(box.min), high = placed.to_mm(box.max);
-  const auto gap = [&](const Vec3& a, const Vec3& b) {  // between the box [a, b] and the model's
-    return (low - b).cwiseMax(a - high).cwiseMax(0.0).norm();
-  };
+  const std::vector<double> gaps = keep_out_gaps(o, SolidBox::spanned(low, high));
   const std::string bounds = fmt::format("({:.4g}, {:.4g}, {:.4g}) to ({:.4g}, {:.4g}, {:.4g})", low.x(),
                                          low.y(), low.z(), high.x(), high.y(), high.z());
-  for (const KeepOutSphere& k : o.keep_out) {
-    const Vec3 c(k.centre[0], k.centre[1], k.centre[2]);
-    if (const double d = gap(c, c) - k.radius; d > 0.0)
+  for (std::size_t k = 0; k < gaps.size(); ++k)
+    if (gaps[k] > 0.0)
       out.push_back(
-          fmt::format("`keep_out` {:g},{:g},{:g},{:g} lies {} mm outside the model's bounds {} "
-                      "and keeps nothing solid; give it in the input's frame, in mm",
-                      c.x(), c.y(), c.z(), k.radius, readable(d), bounds));
-  }
-  for (const KeepOutBox& k : o.keep_out_boxes) {
-    const Vec3 a(k.min[0], k.min[1], k.min[2]), b(k.max[0], k.max[1], k.max[2]);
-    if (const double d = gap(a.cwiseMin(b), a.cwiseMax(b)); d > 0.0)
-      out.push_back(
-          fmt::format("`keep_out_boxes` {:g},{:g},{:g},{:g},{:g},{:g} lies {} mm outside the "
-                      "model's bounds {} and keeps nothing solid; give it in the input's frame, in mm",
-                      a.x(), a.y(), a.z(), b.x(), b.y(), b.z(), readable(d), bounds));
-  }
+          fmt::format("{} lies {} mm outside the model's bounds {} and keeps nothing solid; give "
+                      "it in the input's frame, in mm",
+                      keep_out_name(o, k), readable(gaps[k]), bounds));
 }
 
 // The estimate from the input as the run will place it.

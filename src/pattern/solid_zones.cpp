@@ -1,5 +1,7 @@
 #include "pattern/solid_zones.hpp"
 
+#include <fmt/core.h>
+
 #include <tbb/parallel_for.h>
 
 #include <Eigen/Geometry>  // cross()
@@ -72,6 +74,27 @@ double segment_distance(const Vec3& p, const Segment& s) {
 double box_distance(const Vec3& x, const SolidBox& b) {
   const Vec3 outside = (b.min - x).cwiseMax(x - b.max);
   return outside.cwiseMax(0.0).norm() + std::min(outside.maxCoeff(), 0.0);
+}
+
+std::vector<double> keep_out_gaps(const Options& c, const SolidBox& model) {
+  std::vector<double> gaps;
+  for (const KeepOutSphere& k : c.keep_out)
+    gaps.push_back(std::max(box_distance(vec(k.centre), model) - k.radius, 0.0));
+  for (const KeepOutBox& k : c.keep_out_boxes) {
+    const SolidBox box = SolidBox::spanned(vec(k.min), vec(k.max));
+    gaps.push_back((model.min - box.max).cwiseMax(box.min - model.max).cwiseMax(0.0).norm());
+  }
+  return gaps;
+}
+
+std::string keep_out_name(const Options& c, std::size_t k) {
+  if (k < c.keep_out.size()) {
+    const KeepOutSphere& s = c.keep_out[k];
+    return fmt::format("`keep_out` {:g},{:g},{:g},{:g}", s.centre[0], s.centre[1], s.centre[2], s.radius);
+  }
+  const KeepOutBox& b = c.keep_out_boxes.at(k - c.keep_out.size());
+  return fmt::format("`keep_out_boxes` {:g},{:g},{:g},{:g},{:g},{:g}", b.min[0], b.min[1], b.min[2], b.max[0],
+                     b.max[1], b.max[2]);
 }
 
 std::vector<double> solid_zone_weight(const NarrowBand& band, std::span<const Segment> boundary, double rim,
@@ -215,17 +238,14 @@ ZoneAreas zone_areas(const Options& c, const PlacedSurface& placed, const Narrow
   const std::vector<char> creases = near(features.creases, features.crease_width),
                           rims = near(boundary, c.rim * grid_per_mm);
   ZoneAreas areas;
-  areas.each_keep_out.resize(c.keep_out.size() + c.keep_out_boxes.size());
   const Box bounds = placed.surface->bounds();
-  const SolidBox model = SolidBox::spanned(placed.to_mm(bounds.min), placed.to_mm(bounds.max));
-  for (std::size_t k = 0; k < c.keep_out.size(); ++k)
-    areas.each_keep_out[k].outside_bounds =
-        box_distance(vec(c.keep_out[k].centre), model) > c.keep_out[k].radius;
-  for (std::size_t k = 0; k < c.keep_out_boxes.size(); ++k) {
-    const SolidBox box = SolidBox::spanned(vec(c.keep_out_boxes[k].min), vec(c.keep_out_boxes[k].max));
-    areas.each_keep_out[c.keep_out.size() + k].outside_bounds =
-        (box.min - model.max).cwiseMax(model.min - box.max).maxCoeff() > 0.0;
-  }
+  const std::vector<double> gaps =
+      keep_out_gaps(c, SolidBox::spanned(placed.to_mm(bounds.min), placed.to_mm(bounds.max)));
+  areas.each_keep_out.resize(gaps.size());
+  for (std::size_t k = 0; k < gaps.size(); ++k) areas.each_keep_out[k].outside_bounds = gaps[k] > 0.0;
+  std::vector<SolidBox> boxes;
+  for (const KeepOutBox& box : c.keep_out_boxes)
+    boxes.push_back(SolidBox::spanned(vec(box.min), vec(box.max)));
   for (std::size_t v = 0; v < foot.size(); ++v) {
     if (!(area[v] > 0.0)) continue;
     const Vec3 x = placed.to_mm(foot[v]);
@@ -238,8 +258,7 @@ ZoneAreas zone_areas(const Options& c, const PlacedSurface& placed, const Narrow
       kept = kept || outside < 0.0;
     };
     for (const KeepOutSphere& sphere : c.keep_out) keep_out((x - vec(sphere.centre)).norm() - sphere.radius);
-    for (const KeepOutBox& box : c.keep_out_boxes)
-      keep_out(box_distance(x, SolidBox::spanned(vec(box.min), vec(box.max))));
+    for (const SolidBox& box : boxes) keep_out(box_distance(x, box));
     areas.surface += area[v];
     areas.thin += thin[v] ? area[v] : 0.0;
     areas.creases += creases[v] ? area[v] : 0.0;

@@ -7,6 +7,7 @@
 #include <functional>
 #include <limits>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "band/band.hpp"
@@ -33,6 +34,13 @@ struct SolidBox {
 // Distance from a point to a segment, and the signed distance to a box (negative inside).
 double segment_distance(const Vec3& p, const Segment& s);
 double box_distance(const Vec3& x, const SolidBox& b);
+
+// How far each keep-out (the spheres, then the boxes, in mm as given) lies from the box `model` (mm; 0
+// where it reaches into it). One that misses the model's bounds keeps nothing: the estimate names it
+// before the run, so the report need not say it again.
+std::vector<double> keep_out_gaps(const Options& options, const SolidBox& model);
+// Keep-out k (same order) as the request gives it, for messages: "`keep_out` x,y,z,r".
+std::string keep_out_name(const Options& options, std::size_t k);
 
 // Edges with exactly one incident triangle (the open boundary), as segments.
 std::vector<Segment> boundary_segments(const TriangleMesh& mesh);
@@ -91,8 +99,8 @@ std::vector<double> solid_zones(const Options& options, const PlacedSurface& pla
 struct ZoneAreas {
   double surface = 0.0, thin = 0.0, creases = 0.0, rims = 0.0, keep_outs = 0.0, solid = 0.0;
   // Per keep-out (the spheres, then the boxes): the surface it keeps, how far the surface lies outside
-  // it (0 where it reaches the surface), and whether it misses the model's bounding box (which the
-  // estimate names before the run), so that one that keeps nothing is said (issue 51).
+  // it (0 where it reaches the surface), and whether it misses the model's bounding box
+  // (keep_out_gaps), so that one that keeps nothing is said once (issue 51).
   struct KeepOutReach {
     double area = 0.0, gap_mm = std::numeric_limits<double>::infinity();
     bool outside_bounds = false;

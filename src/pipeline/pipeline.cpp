@@ -71,7 +71,7 @@ ShellSamples sample_printable_shell(const Options& c, const PlacedSurface& place
   ShellOptions options;
   options.thickness = result.solid.wall_mm / mm_per_grid;
   options.offset = c.offset;
-  options.pattern_length = 4.0 * std::sqrt(2.0) * result.model.epsilon;  // see shell.hpp
+  options.pattern_length = 4.0 * std::sqrt(2.0) * result.solve.model.epsilon;  // see shell.hpp
   options.side = side;
   options.open_mesh = placed.open_mesh();
   options.progress = progress;
@@ -214,22 +214,14 @@ class PipelineRun {
       return solid_zones(options_, placed_, b, epsilon, mask_, features_);
     };
     solved_ = solve_pattern(options_, result_.plan, placed_, *grid_, band, zones, monitor_);
-    result_.model = solved_.model;
-    result_.dt = solved_.dt;
-    result_.solver_name = solved_.solver_name;
-    result_.inner_iteration = solved_.inner_iteration;
-    result_.run = solved_.run;
-    result_.coarse_start = solved_.coarse_start;
-    result_.solver_bytes = solved_.solver_bytes;
+    result_.solve = solved_;  // the summary: phi and the zone weights stay here
     result_.seconds_solve = seconds_since(t);
     result_.peak_rss_after_solve = peak_rss_bytes();
-    result_.stop_rule = solved_.stop_rule;
-    result_.layout = solved_.layout;
-    result_.layout_holes = solved_.layout_holes;
     phi_ = std::move(solved_.phi);
     // A preview closes these too, and the discs the run would close (spot_rules.cpp); a surface
     // layer (band_options) also shows slivers of a disc's edge where it is a voxel thin.
-    const bool unevolved = options_.preview && result_.run.steps == 0;  // the even layout's discs as placed
+    const bool unevolved =
+        options_.preview && result_.solve.run.steps == 0;  // the even layout's discs as placed
     if (result_.plan) {
       const SpotRuleCounts fixed =
           apply_spot_rules(band, phi_, *result_.plan, placed_, options_.rim, unevolved);
@@ -259,30 +251,7 @@ class PipelineRun {
   void sample_shell() {
     monitor_.stage("shell");
     mesh_start_ = std::chrono::steady_clock::now();
-    const NarrowBand& band = *band_;
-    if (shell_mode()) {
-      make_side_test(options_.offset, placed_, grid_->h(), side_);
-      shell_ = sample_printable_shell(options_, placed_, band, phi_, side_.side, result_,
-                                      StageProgress(monitor_, 0.0, 0.6));
-    } else {
-      result_.solid.spacing_mm = grid_->h() * placed_.mm_per_grid();
-    }
-    result_.solid.offset = to_string(options_.offset);
-    monitor_.check();
-    for (double iso : options_.iso) {
-      MeshOutput out;
-      out.iso = iso;
-      out.holes = hole_stats_mm(band, phi_, iso, placed_, solved_.zone_weight);
-      out.spots_at_iso = static_cast<std::int64_t>(out.holes.holes.size());  // every spot is a hole
-      result_.meshes.push_back(std::move(out));
-      monitor_.advance(0.65);
-    }
-    if (shell_mode()) {
-      for (double iso : options_.iso)
-        probes_.push_back(
-            wall_probes(placed_, band, phi_, iso, result_.solid.wall_mm, options_.offset, side_.side));
-      monitor_.advance(0.7);
-    }
+    sample_levels(*band_);
     // The unperforated solid gives the reference Euler characteristic: each pore is one tunnel, so
     // pores = (chi0 - chi) / 2. Computed, not derived from the input's topology, because the band closes
     // holes narrower than about 2 delta (a scan's small holes) and may merge close sheets; counted from the
@@ -294,8 +263,8 @@ class PipelineRun {
       release_free_memory();
       result_.unperforated_euler = unperforated_shell_euler(*shell_, StageProgress(monitor_, 0.7, 1.0));
     } else {
-      const std::vector<double> solid(band.size(), -1.0);
-      result_.unperforated_euler = narrow_volume_euler(band, solid, 0.0);
+      const std::vector<double> solid(band_->size(), -1.0);
+      result_.unperforated_euler = narrow_volume_euler(*band_, solid, 0.0);
     }
   }
 
@@ -342,6 +311,33 @@ class PipelineRun {
 
  private:
   bool shell_mode() const { return options_.mode == Mode::shell; }
+
+  // The shell's samples (shell mode), each level's holes and wall probes, from the band and phi.
+  void sample_levels(const NarrowBand& band) {
+    if (shell_mode()) {
+      make_side_test(options_.offset, placed_, grid_->h(), side_);
+      shell_ = sample_printable_shell(options_, placed_, band, phi_, side_.side, result_,
+                                      StageProgress(monitor_, 0.0, 0.6));
+    } else {
+      result_.solid.spacing_mm = grid_->h() * placed_.mm_per_grid();
+    }
+    result_.solid.offset = to_string(options_.offset);
+    monitor_.check();
+    for (double iso : options_.iso) {
+      MeshOutput out;
+      out.iso = iso;
+      out.holes = hole_stats_mm(band, phi_, iso, placed_, solved_.zone_weight);
+      out.spots_at_iso = static_cast<std::int64_t>(out.holes.holes.size());  // every spot is a hole
+      result_.meshes.push_back(std::move(out));
+      monitor_.advance(0.65);
+    }
+    if (shell_mode()) {
+      for (double iso : options_.iso)
+        probes_.push_back(
+            wall_probes(placed_, band, phi_, iso, result_.solid.wall_mm, options_.offset, side_.side));
+      monitor_.advance(0.7);
+    }
+  }
 
   // One level (`last`: the samples are freed after it): the isosurface (from the shell's samples, or the
   // narrow volume's band), in mm, its cavities filled, reduced, checked printable, its pores counted.

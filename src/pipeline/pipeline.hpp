@@ -70,33 +70,24 @@ struct PipelineResult {
   std::size_t band_voxels = 0, ghosts = 0;
   BandStats band_stats;
   std::size_t band_bytes = 0;
-  ModelParameters model;
-  double dt = 0.0;
+  SolveSummary solve;                     // the model, the run and how it was made
   HoleRequest requested_holes;            // as given
   std::optional<PatternPlan> plan;        // the hole map's choice, when a hole size was asked for
   ZoneAreas zone_areas;                   // the input's area each solid-zone rule keeps (mm^2)
   std::optional<GradingSummary> grading;  // when graded
-  std::string solver_name;
-  std::string inner_iteration;
-  StopRule stop_rule = StopRule::paper;  // the rule the run stopped by
-  Layout layout = Layout::paper;         // the layout made (never automatic)
-  std::int64_t layout_holes = 0;         // cvt: the discs the run started from
   // Spots under kLeastSpotAxisRatio cut down to a round hole, or made solid where that left too little
   // (issue 51).
   std::int64_t rounded_oblong_holes = 0, closed_oblong_holes = 0;
   std::int64_t closed_rim_holes = 0;    // spots that would leave less than the rim asked, made solid
   std::int64_t closed_small_holes = 0;  // spots under 0.76 (preview: 0.915) of the asked diameter, made solid
-  RunResult run;                        // on this grid
-  std::optional<CoarseLevel> coarse_start;  // the run on the pattern's grid before it, if any
-  SpotStats spots;                          // at phi > 0
-  std::int64_t unperforated_euler = 0;      // chi of the solid without pores
+  SpotStats spots;                      // at phi > 0
+  std::int64_t unperforated_euler = 0;  // chi of the solid without pores
   SolidSummary solid;
   std::vector<MeshOutput> meshes;
   double seconds_input = 0.0, seconds_band = 0.0, seconds_solve = 0.0, seconds_mesh = 0.0,
          seconds_total = 0.0;
   // Peak resident memory of the process at the end of each stage (bytes; 0 where not measurable).
   std::size_t peak_rss_after_band = 0, peak_rss_after_solve = 0, peak_rss_total = 0;
-  std::size_t solver_bytes = 0;  // the solver's own arrays (multigrid hierarchy, work vectors)
   int threads = 0;
 };
 

@@ -67,20 +67,10 @@ void add_warnings(const PipelineResult& r, const Options& options, Report& repor
   // outside the model's bounds the estimate names before the run (estimate.cpp).
   for (std::size_t k = 0; k < z.each_keep_out.size(); ++k) {
     if (z.each_keep_out[k].area > 0.0 || z.each_keep_out[k].outside_bounds) continue;
-    std::string which;
-    if (k < options.keep_out.size()) {
-      const KeepOutSphere& ball = options.keep_out[k];
-      which = fmt::format("`keep_out` {:g},{:g},{:g},{:g}", ball.centre[0], ball.centre[1], ball.centre[2],
-                          ball.radius);
-    } else {
-      const KeepOutBox& b = options.keep_out_boxes[k - options.keep_out.size()];
-      which = fmt::format("`keep_out_boxes` {:g},{:g},{:g},{:g},{:g},{:g}", b.min[0], b.min[1], b.min[2],
-                          b.max[0], b.max[1], b.max[2]);
-    }
     report.warnings.push_back(fmt::format(
         "{} keeps none of the model's surface, which comes no nearer than {} mm to it; give it in the "
         "input's frame, in mm, over the part to keep solid",
-        which, readable(z.each_keep_out[k].gap_mm)));
+        keep_out_name(options, k), readable(z.each_keep_out[k].gap_mm)));
   }
   for (const MeshOutput& m : r.meshes)
     if (!m.reduction_skipped.empty())
@@ -128,8 +118,8 @@ Report make_report(const PipelineResult& r, const Options& options) {
   report.band = {static_cast<std::int64_t>(r.band_voxels), static_cast<std::int64_t>(r.ghosts),
                  r.band_stats.paper_ghosts, r.band_stats.closure_added,
                  static_cast<std::int64_t>(r.band_bytes)};
-  report.model = {r.model.alpha, r.model.epsilon, r.model.phi_bar, r.dt,
-                  uniform_state_unstable(r.model.alpha, r.model.epsilon, r.model.phi_bar)};
+  report.model = {r.solve.model.alpha, r.solve.model.epsilon, r.solve.model.phi_bar, r.solve.dt,
+                  uniform_state_unstable(r.solve.model.alpha, r.solve.model.epsilon, r.solve.model.phi_bar)};
   report.requested = {r.requested_holes.diameter, r.requested_holes.spacing, r.requested_holes.porosity};
   if (r.plan)
     report.plan = Report::Plan{r.plan->diameter,   r.plan->spacing, r.plan->porosity, r.plan->level,
@@ -139,20 +129,20 @@ Report make_report(const PipelineResult& r, const Options& options) {
         Report::Grading{r.grading->min_diameter, r.grading->max_diameter, r.grading->clamped_fraction,
                         r.grading->clamped_min, r.grading->clamped_max};
   auto& s = report.solver;
-  s.name = r.solver_name;
-  s.inner_iteration = r.inner_iteration;
-  s.steps = r.run.steps;
-  s.inner_iterations = r.run.inner_iterations;
-  s.repeated_steps = r.run.repeated_steps;
-  s.final_ec = r.run.final_ec;
+  s.name = r.solve.solver_name;
+  s.inner_iteration = r.solve.inner_iteration;
+  s.steps = r.solve.run.steps;
+  s.inner_iterations = r.solve.run.inner_iterations;
+  s.repeated_steps = r.solve.run.repeated_steps;
+  s.final_ec = r.solve.run.final_ec;
   s.tolerance = options.tolerance;
-  s.reached_tolerance = r.run.reached_tolerance;
-  s.stop_rule = r.stop_rule == StopRule::holes ? "holes" : "paper";
-  s.layout = r.layout == Layout::cvt ? "cvt" : "paper";
-  s.layout_holes = r.layout_holes;
+  s.reached_tolerance = r.solve.run.reached_tolerance;
+  s.stop_rule = r.solve.stop_rule == StopRule::holes ? "holes" : "paper";
+  s.layout = r.solve.layout == Layout::cvt ? "cvt" : "paper";
+  s.layout_holes = r.solve.layout_holes;
   report.preview = options.preview;
-  s.inner_converged = r.run.inner_converged;
-  if (const auto& c = r.coarse_start)
+  s.inner_converged = r.solve.run.inner_converged;
+  if (const auto& c = r.solve.coarse_start)
     s.coarse_start = Report::CoarseStart{c->dims,
                                          c->h * mm_per_grid,
                                          c->h,
@@ -164,9 +154,9 @@ Report make_report(const PipelineResult& r, const Options& options) {
                                          c->run.repeated_steps,
                                          c->spots,
                                          c->run.reached_tolerance};
-  s.energy_first = r.run.energy_first;
-  s.energy_last = r.run.energy_last;
-  s.energy_trace = r.run.energy_trace;
+  s.energy_first = r.solve.run.energy_first;
+  s.energy_last = r.solve.run.energy_last;
+  s.energy_trace = r.solve.run.energy_trace;
   report.pattern = {r.spots.count,          r.closed_small_holes, r.spots.size_cv,    r.spots.mean_size,
                     r.spots.area_fraction,  r.spots.spacing_mean, r.spots.spacing_cv, r.closed_oblong_holes,
                     r.rounded_oblong_holes, r.closed_rim_holes};
@@ -175,7 +165,7 @@ Report make_report(const PipelineResult& r, const Options& options) {
   report.solid_zones = {z.surface, z.thin, z.creases, z.rims, z.keep_outs, z.solid};
   add_warnings(r, options, report);
   report.unperforated_euler_characteristic = r.unperforated_euler;
-  report.memory = {static_cast<std::int64_t>(r.band_bytes), static_cast<std::int64_t>(r.solver_bytes),
+  report.memory = {static_cast<std::int64_t>(r.band_bytes), static_cast<std::int64_t>(r.solve.solver_bytes),
                    static_cast<std::int64_t>(r.peak_rss_after_band),
                    static_cast<std::int64_t>(r.peak_rss_after_solve),
                    static_cast<std::int64_t>(r.peak_rss_total)};

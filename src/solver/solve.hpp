@@ -20,18 +20,23 @@
 
 namespace poreshell {
 
-struct SolveResult {
+// What a solve made and how, as the report gives it (PipelineResult holds one).
+struct SolveSummary {
   ModelParameters model;
   double dt = 0.0;
   std::string solver_name, inner_iteration;
   RunResult run;                            // on the given grid
   std::optional<CoarseLevel> coarse_start;  // the run on the pattern's grid before it, if any
   std::size_t solver_bytes = 0;             // the solver's own arrays
-  std::vector<double> phi;                  // on the band, at the end
   StopRule stop_rule = StopRule::paper;     // the rule that ended the run (never automatic)
   Layout layout = Layout::paper;            // never automatic
   std::int64_t layout_holes = 0;            // cvt: the discs the run started from
-  std::vector<double> zone_weight;          // per band voxel, how solid (empty: no zones)
+};
+
+// The summary and the fields the later stages take over.
+struct SolveResult : SolveSummary {
+  std::vector<double> phi;          // on the band, at the end
+  std::vector<double> zone_weight;  // per band voxel, how solid (empty: no zones)
 };
 
 // The rule a run stops by: Options::stop, with automatic resolved (holes for a preview and for the

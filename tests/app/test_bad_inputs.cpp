@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "package_3mf.hpp"
 #include "process.hpp"
 
 #ifndef PORESHELL_EXE
@@ -45,6 +46,8 @@ struct Row {
 const std::string kOptionRun = "--max-steps 5 --tol 1e-12 --quiet";
 
 using poreshell::test_support::lines;
+using poreshell::test_support::package_3mf;
+using poreshell::test_support::stored_zip;
 using poreshell::test_support::read_file;
 using poreshell::test_support::run_program;
 
@@ -105,54 +108,12 @@ std::string little_endian_tet_ply(const std::string& format) {
   return s;
 }
 
-// A ZIP archive of stored entries (enough for a 3MF package).
-std::uint32_t crc32(const std::string& data) {
-  std::uint32_t crc = 0xFFFFFFFFu;
-  for (unsigned char ch : data) {
-    crc ^= ch;
-    for (int k = 0; k < 8; ++k) crc = (crc >> 1) ^ (0xEDB88320u & (0u - (crc & 1u)));
-  }
-  return ~crc;
-}
-
-std::string zip(const std::vector<std::pair<std::string, std::string>>& entries) {
-  const auto u16 = [](unsigned n) {
-    return std::string{static_cast<char>(n & 0xFF), static_cast<char>(n >> 8)};
-  };
-  std::string local, central;
-  for (const auto& [name, data] : entries) {
-    const std::string sizes = u32(crc32(data)) + u32(static_cast<std::uint32_t>(data.size())) +
-                              u32(static_cast<std::uint32_t>(data.size()));
-    const std::uint32_t offset = static_cast<std::uint32_t>(local.size());
-    local += u32(0x04034b50) + u16(20) + u16(0) + u16(0) + u16(0) + u16(0x21) + sizes +
-             u16(static_cast<unsigned>(name.size())) + u16(0) + name + data;
-    central += u32(0x02014b50) + u16(20) + u16(20) + u16(0) + u16(0) + u16(0) + u16(0x21) + sizes +
-               u16(static_cast<unsigned>(name.size())) + u16(0) + u16(0) + u16(0) + u16(0) + u32(0) +
-               u32(offset) + name;
-  }
-  const auto n = static_cast<unsigned>(entries.size());
-  return local + central + u32(0x06054b50) + u16(0) + u16(0) + u16(n) + u16(n) +
-         u32(static_cast<std::uint32_t>(central.size())) + u32(static_cast<std::uint32_t>(local.size())) +
-         u16(0);
-}
-
 std::string package_3mf(const std::string& resources, const std::string& build) {
-  const std::string types =
-      "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<Types "
-      "xmlns=\"http://schemas.openxmlformats.org/package/2006/content-types\"><Default Extension=\"rels\" "
-      "ContentType=\"application/vnd.openxmlformats-package.relationships+xml\"/><Default "
-      "Extension=\"model\" "
-      "ContentType=\"application/vnd.ms-package.3dmanufacturing-3dmodel+xml\"/></Types>\n";
-  const std::string rels =
-      "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<Relationships "
-      "xmlns=\"http://schemas.openxmlformats.org/package/2006/relationships\"><Relationship "
-      "Target=\"/3D/3dmodel.model\" Id=\"rel0\" "
-      "Type=\"http://schemas.microsoft.com/3dmanufacturing/2013/01/3dmodel\"/></Relationships>\n";
   const std::string model =
       "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<model unit=\"millimeter\" xml:lang=\"en-US\" "
       "xmlns=\"http://schemas.microsoft.com/3dmanufacturing/core/2015/02\"><resources>" +
       resources + "</resources><build>" + build + "</build></model>\n";
-  return zip({{"[Content_Types].xml", types}, {"_rels/.rels", rels}, {"3D/3dmodel.model", model}});
+  return package_3mf(model);
 }
 
 // A closed 20 mm cube (8 corners, 12 triangles, outward), its corner 7 moved to `far` on each axis.
@@ -302,7 +263,7 @@ std::vector<Row> rows() {
        "ply\nformat ascii 1.0\nelement vertex 1000000\nproperty float x\nproperty float y\nproperty float z\n"
        "end_header\n0 0 0\n",
        "--points FILE", 1, "promises 1000000 'vertex' entries", "re-export"},
-      {"garbage zip named .3mf", "g.3mf", zip({{"junk.bin", "garbage garbage garbage"}}), "--mesh FILE", 1,
+      {"garbage zip named .3mf", "g.3mf", stored_zip({{"junk.bin", "garbage garbage garbage"}}), "--mesh FILE", 1,
        "cannot read mesh file", "valid .3mf"},
       {"not a zip named .3mf", "g.3mf", "this is not a zip archive\n", "--mesh FILE", 1,
        "cannot read mesh file", "valid .3mf"},

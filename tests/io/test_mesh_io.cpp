@@ -16,6 +16,7 @@
 #include "core/error.hpp"
 #include "geometry/mesh.hpp"
 #include "io/mesh_io.hpp"
+#include "package_3mf.hpp"
 
 using namespace poreshell;
 namespace fs = std::filesystem;
@@ -99,63 +100,6 @@ std::string tet_off() {
   return s;
 }
 
-// ---- a 3MF package by hand: a ZIP archive with stored (uncompressed) entries ----
-
-std::uint32_t crc32(const std::string& data) {
-  std::uint32_t crc = 0xFFFFFFFFu;
-  for (unsigned char ch : data) {
-    crc ^= ch;
-    for (int k = 0; k < 8; ++k) crc = (crc >> 1) ^ (0xEDB88320u & (0u - (crc & 1u)));
-  }
-  return ~crc;
-}
-
-void put16(std::string& s, std::uint32_t v) {
-  s += static_cast<char>(v & 0xFF);
-  s += static_cast<char>((v >> 8) & 0xFF);
-}
-void put32(std::string& s, std::uint32_t v) {
-  put16(s, v & 0xFFFF);
-  put16(s, v >> 16);
-}
-
-std::string stored_zip(const std::vector<std::pair<std::string, std::string>>& entries) {
-  std::string out, central;
-  for (const auto& [name, data] : entries) {
-    const auto offset = static_cast<std::uint32_t>(out.size());
-    const std::uint32_t crc = crc32(data);
-    const auto size = static_cast<std::uint32_t>(data.size());
-    const auto name_len = static_cast<std::uint32_t>(name.size());
-    put32(out, 0x04034b50);
-    for (std::uint32_t v : {20u, 0u, 0u, 0u, 0x21u}) put16(out, v);  // version, flags, stored, time, date
-    put32(out, crc);
-    put32(out, size);
-    put32(out, size);
-    put16(out, name_len);
-    put16(out, 0);
-    out += name + data;
-    put32(central, 0x02014b50);
-    for (std::uint32_t v : {20u, 20u, 0u, 0u, 0u, 0x21u}) put16(central, v);
-    put32(central, crc);
-    put32(central, size);
-    put32(central, size);
-    for (std::uint32_t v : {name_len, 0u, 0u, 0u, 0u}) put16(central, v);
-    put32(central, 0);
-    put32(central, offset);
-    central += name;
-  }
-  const auto central_offset = static_cast<std::uint32_t>(out.size());
-  out += central;
-  put32(out, 0x06054b50);
-  for (std::uint32_t v :
-       {0u, 0u, static_cast<std::uint32_t>(entries.size()), static_cast<std::uint32_t>(entries.size())})
-    put16(out, v);
-  put32(out, static_cast<std::uint32_t>(central.size()));
-  put32(out, central_offset);
-  put16(out, 0);
-  return out;
-}
-
 // Build item transform in 3MF order (row-vector convention): 90 degrees about z, then (10, 20, 30).
 const char* kTransform3mf = "0 1 0 -1 0 0 0 0 1 10 20 30";
 Vec3 apply_transform_3mf(const Vec3& p) {
@@ -176,18 +120,7 @@ std::string tet_3mf() {
              std::to_string(t[2]) + "\"/>\n";
   model += "</triangles>\n</mesh>\n</object>\n</resources>\n<build>\n<item objectid=\"1\" transform=\"" +
            std::string(kTransform3mf) + "\"/>\n</build>\n</model>\n";
-  const std::string types =
-      "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<Types "
-      "xmlns=\"http://schemas.openxmlformats.org/package/2006/content-types\"><Default Extension=\"rels\" "
-      "ContentType=\"application/vnd.openxmlformats-package.relationships+xml\"/><Default "
-      "Extension=\"model\" "
-      "ContentType=\"application/vnd.ms-package.3dmanufacturing-3dmodel+xml\"/></Types>";
-  const std::string rels =
-      "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<Relationships "
-      "xmlns=\"http://schemas.openxmlformats.org/package/2006/relationships\"><Relationship "
-      "Target=\"/3D/3dmodel.model\" Id=\"rel0\" "
-      "Type=\"http://schemas.microsoft.com/3dmanufacturing/2013/01/3dmodel\"/></Relationships>";
-  return stored_zip({{"[Content_Types].xml", types}, {"_rels/.rels", rels}, {"3D/3dmodel.model", model}});
+  return test_support::package_3mf(model);
 }
 
 // Each read triangle must be an original triangle (under `map`), same orientation.

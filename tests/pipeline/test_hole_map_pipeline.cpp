@@ -112,7 +112,7 @@ TEST(HoleMapPipeline, CvtLayoutIsMoreEvenThanTheEquationsOwnWithTheSameHoles) {
   const PipelineResult paper = run_pipeline(sphere(30.0), c, unmonitored());
   c.layout = Layout::automatic;  // cvt for holes in mm
   const PipelineResult cvt = run_pipeline(sphere(30.0), c, unmonitored());
-  ASSERT_EQ(cvt.layout, Layout::cvt);
+  ASSERT_EQ(cvt.solve.layout, Layout::cvt);
   const HoleStats &a = paper.meshes.front().holes, &b = cvt.meshes.front().holes;
   EXPECT_NEAR(static_cast<double>(b.holes.size()), static_cast<double>(a.holes.size()),
               0.02 * static_cast<double>(a.holes.size()));
@@ -122,7 +122,7 @@ TEST(HoleMapPipeline, CvtLayoutIsMoreEvenThanTheEquationsOwnWithTheSameHoles) {
   EXPECT_LT(b.diameter_cv, a.diameter_cv + 0.005);
   EXPECT_LT(relative_error(b.diameter_mean, 6.0), 0.05) << b.diameter_mean;
   // The equation keeps the discs it started from.
-  EXPECT_EQ(static_cast<std::int64_t>(b.holes.size()), cvt.layout_holes);
+  EXPECT_EQ(static_cast<std::int64_t>(b.holes.size()), cvt.solve.layout_holes);
   std::printf("cell-area CV %.4f -> %.4f, NN CV %.4f -> %.4f, %zu -> %zu holes\n", a.cell_area_cv,
               b.cell_area_cv, a.spacing_cv, b.spacing_cv, a.holes.size(), b.holes.size());
 }
@@ -165,10 +165,10 @@ TEST(HoleMapPipeline, FinerVoxelsKeepTheHolesAndTheRimThroughTheCoarseStart) {
   c.rim = 2.0;
   c.layout = Layout::paper;
   const PipelineResult r = run_pipeline(cylinder, c, unmonitored());
-  ASSERT_TRUE(r.coarse_start);
-  EXPECT_NEAR(r.coarse_start->h, 2.0 * r.h, 0.02 * r.h);
-  EXPECT_TRUE(r.run.reached_tolerance);
-  EXPECT_LE(r.run.steps * 5, r.coarse_start->run.steps);
+  ASSERT_TRUE(r.solve.coarse_start);
+  EXPECT_NEAR(r.solve.coarse_start->h, 2.0 * r.h, 0.02 * r.h);
+  EXPECT_TRUE(r.solve.run.reached_tolerance);
+  EXPECT_LE(r.solve.run.steps * 5, r.solve.coarse_start->run.steps);
   const MeshOutput& out = r.meshes.front();
   EXPECT_LT(relative_error(out.holes.diameter_mean, 5.0), 0.15) << out.holes.diameter_mean;
   EXPECT_LT(relative_error(out.holes.spacing_mean, 8.0), 0.15) << out.holes.spacing_mean;

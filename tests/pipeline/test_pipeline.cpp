@@ -58,7 +58,7 @@ TEST(Pipeline, BunnyScanGivesAClosedManifoldPorousShellInTheScansUnits) {
   EXPECT_EQ(r.input.kind, "mesh");
   EXPECT_EQ(r.input.boundary_edges, 223);
   EXPECT_EQ(r.grid_dims[0], 49);  // the longest side carries the resolution
-  EXPECT_TRUE(r.run.reached_tolerance);
+  EXPECT_TRUE(r.solve.run.reached_tolerance);
   EXPECT_GE(r.spots.count, 15);
   EXPECT_LT(r.spots.area_fraction, 0.45);
 
@@ -123,12 +123,12 @@ TEST(Pipeline, CoarseStartWhereTheInterfaceSpansManyVoxels) {
   c.dt_h = 200;     // and its dt = 100 h
   c.alpha = 300;    // and the alpha of the test above
   const PipelineResult r = run_pipeline(bunny, c, unmonitored());
-  ASSERT_TRUE(r.coarse_start);
-  const CoarseLevel& coarse = *r.coarse_start;
+  ASSERT_TRUE(r.solve.coarse_start);
+  const CoarseLevel& coarse = *r.solve.coarse_start;
   EXPECT_NEAR(coarse.h, 2.0 * r.h, 1e-12);
   EXPECT_TRUE(coarse.run.reached_tolerance);
-  EXPECT_TRUE(r.run.reached_tolerance);
-  EXPECT_LE(r.run.steps * 5, coarse.run.steps);
+  EXPECT_TRUE(r.solve.run.reached_tolerance);
+  EXPECT_LE(r.solve.run.steps * 5, coarse.run.steps);
   EXPECT_NEAR(static_cast<double>(r.spots.count), static_cast<double>(coarse.spots),
               0.05 * static_cast<double>(coarse.spots) + 1.0);
   EXPECT_GE(r.spots.count, 20);
@@ -136,7 +136,7 @@ TEST(Pipeline, CoarseStartWhereTheInterfaceSpansManyVoxels) {
 
   c.coarse_start = false;
   c.max_steps = 1;
-  EXPECT_FALSE(run_pipeline(bunny, c, unmonitored()).coarse_start);
+  EXPECT_FALSE(run_pipeline(bunny, c, unmonitored()).solve.coarse_start);
 }
 
 // Issue 49: where the default reduction fails one of its checks, the full isosurface is written, and the
