@@ -63,7 +63,8 @@ void size_warnings(const Estimate& e, const Input& input, const Options& o, std:
 void keep_out_warnings(const Options& o, const PlacedSurface& placed, std::vector<std::string>& out) {
   const Box box = placed.surface->bounds();
   const Vec3 low = placed.to_mm(box.min), high = placed.to_mm(box.max);
-  const std::vector<double> gaps = keep_out_gaps(o, SolidBox::spanned(low, high));
+  const ZoneOptions zones = zone_options(o);
+  const std::vector<double> gaps = keep_out_gaps(zones, SolidBox::spanned(low, high));
   const std::string bounds = fmt::format("({:.4g}, {:.4g}, {:.4g}) to ({:.4g}, {:.4g}, {:.4g})", low.x(),
                                          low.y(), low.z(), high.x(), high.y(), high.z());
   for (std::size_t k = 0; k < gaps.size(); ++k)
@@ -71,7 +72,7 @@ void keep_out_warnings(const Options& o, const PlacedSurface& placed, std::vecto
       out.push_back(
           fmt::format("{} lies {} mm outside the model's bounds {} and keeps nothing solid; give "
                       "it in the input's frame, in mm",
-                      keep_out_name(o, k), readable(gaps[k]), bounds));
+                      keep_out_name(zones, k), readable(gaps[k]), bounds));
 }
 
 // The estimate from the input as the run will place it.

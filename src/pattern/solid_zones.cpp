@@ -76,23 +76,21 @@ double box_distance(const Vec3& x, const SolidBox& b) {
   return outside.cwiseMax(0.0).norm() + std::min(outside.maxCoeff(), 0.0);
 }
 
-std::vector<double> keep_out_gaps(const Options& c, const SolidBox& model) {
+std::vector<double> keep_out_gaps(const ZoneOptions& c, const SolidBox& model) {
   std::vector<double> gaps;
-  for (const KeepOutSphere& k : c.keep_out)
-    gaps.push_back(std::max(box_distance(vec(k.centre), model) - k.radius, 0.0));
-  for (const KeepOutBox& k : c.keep_out_boxes) {
-    const SolidBox box = SolidBox::spanned(vec(k.min), vec(k.max));
+  for (const SolidSphere& k : c.keep_out)
+    gaps.push_back(std::max(box_distance(k.center, model) - k.radius, 0.0));
+  for (const SolidBox& box : c.keep_out_boxes)
     gaps.push_back((model.min - box.max).cwiseMax(box.min - model.max).cwiseMax(0.0).norm());
-  }
   return gaps;
 }
 
-std::string keep_out_name(const Options& c, std::size_t k) {
+std::string keep_out_name(const ZoneOptions& c, std::size_t k) {
   if (k < c.keep_out.size()) {
-    const KeepOutSphere& s = c.keep_out[k];
-    return fmt::format("`keep_out` {:g},{:g},{:g},{:g}", s.centre[0], s.centre[1], s.centre[2], s.radius);
+    const SolidSphere& s = c.keep_out[k];
+    return fmt::format("`keep_out` {:g},{:g},{:g},{:g}", s.center[0], s.center[1], s.center[2], s.radius);
   }
-  const KeepOutBox& b = c.keep_out_boxes.at(k - c.keep_out.size());
+  const SolidBox& b = c.keep_out_boxes.at(k - c.keep_out.size());
   return fmt::format("`keep_out_boxes` {:g},{:g},{:g},{:g},{:g},{:g}", b.min[0], b.min[1], b.min[2], b.max[0],
                      b.max[1], b.max[2]);
 }
@@ -132,19 +130,19 @@ std::vector<double> mean_concentration_field(std::span<const double> weight, dou
   return field;
 }
 
-std::vector<double> solid_zones(const Options& c, const PlacedSurface& placed, const NarrowBand& band,
+std::vector<double> solid_zones(const ZoneOptions& c, const PlacedSurface& placed, const NarrowBand& band,
                                 double epsilon, const std::function<double(const Vec3&)>& mask,
                                 const FeatureZones& features) {
   const bool creases = !features.creases.empty() && features.crease_width > 0.0;
   if (c.rim <= 0.0 && c.keep_out.empty() && c.keep_out_boxes.empty() && !mask && !features.thin && !creases)
     return {};
   const double grid_per_mm = 1.0 / placed.mm_per_grid();
-  const auto from_mm = [&](const Point& p) { return placed.from_mm(Vec3(p[0], p[1], p[2])); };
   std::vector<SolidSphere> spheres;
-  for (const KeepOutSphere& k : c.keep_out) spheres.push_back({from_mm(k.centre), k.radius * grid_per_mm});
+  for (const SolidSphere& k : c.keep_out)
+    spheres.push_back({placed.from_mm(k.center), k.radius * grid_per_mm});
   std::vector<SolidBox> boxes;
-  for (const KeepOutBox& k : c.keep_out_boxes)
-    boxes.push_back(SolidBox::spanned(from_mm(k.min), from_mm(k.max)));
+  for (const SolidBox& k : c.keep_out_boxes)
+    boxes.push_back(SolidBox::spanned(placed.from_mm(k.min), placed.from_mm(k.max)));
   const std::vector<Segment> boundary =
       placed.mesh ? boundary_segments(*placed.mesh) : std::vector<Segment>{};
   // The ramp lets the pattern meet the zone over about one interface width.
@@ -168,7 +166,7 @@ std::vector<double> solid_zones(const Options& c, const PlacedSurface& placed, c
   return weight;
 }
 
-FeatureZones feature_zones(const Options& c, const PlacedSurface& placed, double hole_diameter_mm) {
+FeatureZones feature_zones(const ZoneOptions& c, const PlacedSurface& placed, double hole_diameter_mm) {
   FeatureZones zones;
   if (!(hole_diameter_mm > 0.0) || (c.thin_feature_ratio <= 0.0 && c.crease_angle <= 0.0)) return zones;
   const double hole = hole_diameter_mm / placed.mm_per_grid();
@@ -213,7 +211,7 @@ FeatureZones feature_zones(const Options& c, const PlacedSurface& placed, double
   return zones;
 }
 
-ZoneAreas zone_areas(const Options& c, const PlacedSurface& placed, const NarrowBand& band,
+ZoneAreas zone_areas(const ZoneOptions& c, const PlacedSurface& placed, const NarrowBand& band,
                      const FeatureZones& features, const std::function<double(const Vec3&)>& mask) {
   const double mm = placed.mm_per_grid(), grid_per_mm = 1.0 / mm;
   std::vector<Vec3> foot(band.size());
@@ -243,9 +241,6 @@ ZoneAreas zone_areas(const Options& c, const PlacedSurface& placed, const Narrow
       keep_out_gaps(c, SolidBox::spanned(placed.to_mm(bounds.min), placed.to_mm(bounds.max)));
   areas.each_keep_out.resize(gaps.size());
   for (std::size_t k = 0; k < gaps.size(); ++k) areas.each_keep_out[k].outside_bounds = gaps[k] > 0.0;
-  std::vector<SolidBox> boxes;
-  for (const KeepOutBox& box : c.keep_out_boxes)
-    boxes.push_back(SolidBox::spanned(vec(box.min), vec(box.max)));
   for (std::size_t v = 0; v < foot.size(); ++v) {
     if (!(area[v] > 0.0)) continue;
     const Vec3 x = placed.to_mm(foot[v]);
@@ -257,8 +252,8 @@ ZoneAreas zone_areas(const Options& c, const PlacedSurface& placed, const Narrow
       reach.area += outside < 0.0 ? area[v] : 0.0;
       kept = kept || outside < 0.0;
     };
-    for (const KeepOutSphere& sphere : c.keep_out) keep_out((x - vec(sphere.centre)).norm() - sphere.radius);
-    for (const SolidBox& box : boxes) keep_out(box_distance(x, box));
+    for (const SolidSphere& sphere : c.keep_out) keep_out((x - sphere.center).norm() - sphere.radius);
+    for (const SolidBox& box : c.keep_out_boxes) keep_out(box_distance(x, box));
     areas.surface += area[v];
     areas.thin += thin[v] ? area[v] : 0.0;
     areas.creases += creases[v] ? area[v] : 0.0;

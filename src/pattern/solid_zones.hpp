@@ -13,7 +13,6 @@
 #include "band/band.hpp"
 #include "geometry/mesh.hpp"
 #include "input/placement.hpp"
-#include "poreshell/options.hpp"
 
 namespace poreshell {
 
@@ -35,12 +34,23 @@ struct SolidBox {
 double segment_distance(const Vec3& p, const Segment& s);
 double box_distance(const Vec3& x, const SolidBox& b);
 
-// How far each keep-out (the spheres, then the boxes, in mm as given) lies from the box `model` (mm; 0
-// where it reaches into it). One that misses the model's bounds keeps nothing: the estimate names it
-// before the run, so the report need not say it again.
-std::vector<double> keep_out_gaps(const Options& options, const SolidBox& model);
+// What the solid zones are asked for: the request's share for this room (pipeline.hpp's zone_options()
+// resolves it once). Lengths in mm, in the input's frame.
+struct ZoneOptions {
+  double rim = 0.0;  // along the open boundary; 0: none
+  std::vector<SolidSphere> keep_out;
+  std::vector<SolidBox> keep_out_boxes;
+  double thin_feature_ratio = 0.0;  // times the hole diameter; 0: off
+  double crease_angle = 0.0;        // degrees; 0: off
+  bool any_keep_out() const { return !keep_out.empty() || !keep_out_boxes.empty(); }
+};
+
+// How far each keep-out (the spheres, then the boxes) lies from the box `model` (mm; 0 where it reaches
+// into it). One that misses the model's bounds keeps nothing: the estimate names it before the run, so
+// the report need not say it again.
+std::vector<double> keep_out_gaps(const ZoneOptions& zones, const SolidBox& model);
 // Keep-out k (same order) as the request gives it, for messages: "`keep_out` x,y,z,r".
-std::string keep_out_name(const Options& options, std::size_t k);
+std::string keep_out_name(const ZoneOptions& zones, std::size_t k);
 
 // Edges with exactly one incident triangle (the open boundary), as segments.
 std::vector<Segment> boundary_segments(const TriangleMesh& mesh);
@@ -88,8 +98,9 @@ struct FeatureZones {
   double crease_width = 0.0;
   std::int64_t thin_vertices = 0, crease_edges = 0;  // what was found, for the report
 };
-std::vector<double> solid_zones(const Options& options, const PlacedSurface& placed, const NarrowBand& band,
-                                double epsilon, const std::function<double(const Vec3&)>& mask,
+std::vector<double> solid_zones(const ZoneOptions& options, const PlacedSurface& placed,
+                                const NarrowBand& band, double epsilon,
+                                const std::function<double(const Vec3&)>& mask,
                                 const FeatureZones& features = {});
 
 // The surface's area each rule keeps solid (mm^2, from the band's voxels: each carries its share of the
@@ -107,11 +118,11 @@ struct ZoneAreas {
   };
   std::vector<KeepOutReach> each_keep_out;
 };
-ZoneAreas zone_areas(const Options& options, const PlacedSurface& placed, const NarrowBand& band,
+ZoneAreas zone_areas(const ZoneOptions& options, const PlacedSurface& placed, const NarrowBand& band,
                      const FeatureZones& features, const std::function<double(const Vec3&)>& mask);
 
 // The thin parts and creases of a mesh input for holes of `hole_diameter_mm` (the options' thresholds);
 // none for shapes and point clouds.
-FeatureZones feature_zones(const Options& options, const PlacedSurface& placed, double hole_diameter_mm);
+FeatureZones feature_zones(const ZoneOptions& options, const PlacedSurface& placed, double hole_diameter_mm);
 
 }  // namespace poreshell

@@ -98,7 +98,7 @@ void preview_output(double level, const Options& options, const PlacedSurface& p
   out.spots_at_iso = static_cast<std::int64_t>(out.holes.holes.size());
   std::vector<HoleDisc> discs;
   for (const BandHole& h : out.holes.holes) discs.push_back({h.centre, h.diameter});
-  out.zones = check_zones(discs, options, placed);
+  out.zones = check_zones(discs, zone_options(options), placed);
   out.mesh = placed.mesh ? preview_surface_mesh(*placed.mesh, band.grid().h()) : surface_slab_mesh(band);
   monitor.check();
   out.pattern.resize(out.mesh.vertices.size());
@@ -150,6 +150,7 @@ class PipelineRun {
         monitor_(monitor),
         placed_(prepared.placed),
         options_(prepared.options),
+        zones_(zone_options(prepared.options)),
         // The run's clock counts the input's preparation too.
         start_(std::chrono::steady_clock::now() -
                std::chrono::duration_cast<std::chrono::steady_clock::duration>(
@@ -163,7 +164,7 @@ class PipelineRun {
   void read_input() {
     monitor_.stage("input");
     const auto t = std::chrono::steady_clock::now();
-    features_ = result_.plan ? feature_zones(options_, placed_, result_.plan->diameter) : FeatureZones{};
+    features_ = result_.plan ? feature_zones(zones_, placed_, result_.plan->diameter) : FeatureZones{};
     result_.input = placed_.input;
     result_.input.thin_vertices = features_.thin_vertices;
     result_.input.crease_edges = features_.crease_edges;
@@ -203,7 +204,7 @@ class PipelineRun {
     result_.ghosts = band_->ghost_count();
     result_.band_stats = band_->stats();
     result_.band_bytes = band_->memory_bytes();
-    result_.zone_areas = zone_areas(options_, placed_, *band_, features_, mask_);
+    result_.zone_areas = zone_areas(zones_, placed_, *band_, features_, mask_);
   }
 
   void solve() {
@@ -211,7 +212,7 @@ class PipelineRun {
     const auto t = std::chrono::steady_clock::now();
     const NarrowBand& band = *band_;
     const SolidZones zones = [&](const NarrowBand& b, double epsilon) {
-      return solid_zones(options_, placed_, b, epsilon, mask_, features_);
+      return solid_zones(zones_, placed_, b, epsilon, mask_, features_);
     };
     solved_ = solve_pattern(options_, result_.plan, placed_, *grid_, band, zones, monitor_);
     result_.solve = solved_;  // the summary: phi and the zone weights stay here
@@ -296,7 +297,7 @@ class PipelineRun {
       out.spots_at_open_edge = spots_at_open_edge(out.hole_table, out.holes, placed_, result_.solid.wall_mm);
       std::vector<HoleDisc> discs;
       for (const HoleRecord& h : out.hole_table.holes) discs.push_back({h.centre, h.diameter});
-      out.zones = check_zones(discs, options_, placed_);
+      out.zones = check_zones(discs, zones_, placed_);
       monitor_.advance(static_cast<double>(level + 1) / static_cast<double>(options_.iso.size()));
     }
     result_.seconds_mesh = seconds_since(mesh_start_);
@@ -378,6 +379,7 @@ class PipelineRun {
   RunMonitor& monitor_;
   const PlacedSurface& placed_;
   Options options_;
+  const ZoneOptions zones_;
   const std::chrono::steady_clock::time_point start_;
   std::chrono::steady_clock::time_point mesh_start_;
   PipelineResult result_;
@@ -394,6 +396,14 @@ class PipelineRun {
 };
 
 }  // namespace
+
+ZoneOptions zone_options(const Options& o) {
+  ZoneOptions zones{o.rim, {}, {}, o.thin_feature_ratio, o.crease_angle};
+  for (const KeepOutSphere& k : o.keep_out) zones.keep_out.push_back({vec(k.centre), k.radius});
+  for (const KeepOutBox& k : o.keep_out_boxes)
+    zones.keep_out_boxes.push_back(SolidBox::spanned(vec(k.min), vec(k.max)));
+  return zones;
+}
 
 PreparedInput prepare_input(const Input& input, const Options& given) {
   validate(given);

@@ -112,6 +112,10 @@ using detail::PreparedInput;
 // Validates the options and places the input. Throws as run_pipeline would.
 PreparedInput prepare_input(const Input& input, const Options& options);
 
+// The solid zones' share of the request (the rim, the keep-outs, the thin-part and crease thresholds),
+// for the rooms that make and check them.
+ZoneOptions zone_options(const Options& options);
+
 // Whether holes are asked in mm (the hole map's route) rather than by the paper's parameters.
 inline bool holes_in_mm(const Options& o) {
   return o.hole_diameter > 0.0 || o.spacing > 0.0 || o.porosity > 0.0;

@@ -70,7 +70,7 @@ void add_warnings(const PipelineResult& r, const Options& options, Report& repor
     report.warnings.push_back(fmt::format(
         "{} keeps none of the model's surface, which comes no nearer than {} mm to it; give it in the "
         "input's frame, in mm, over the part to keep solid",
-        keep_out_name(options, k), readable(z.each_keep_out[k].gap_mm)));
+        keep_out_name(zone_options(options), k), readable(z.each_keep_out[k].gap_mm)));
   }
   for (const MeshOutput& m : r.meshes)
     if (!m.reduction_skipped.empty())

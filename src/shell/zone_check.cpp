@@ -3,15 +3,14 @@
 #include <algorithm>
 #include <cmath>
 
-#include "pattern/solid_zones.hpp"
-
 namespace poreshell {
 
 // Holes x boundary segments, brute force: a few hundred holes by a few thousand segments is a few
 // milliseconds, beside seconds of meshing.
-ZoneCheck check_zones(std::span<const HoleDisc> holes, const Options& options, const PlacedSurface& placed) {
+ZoneCheck check_zones(std::span<const HoleDisc> holes, const ZoneOptions& zones,
+                      const PlacedSurface& placed) {
   ZoneCheck check;
-  check.rim_asked = options.rim;
+  check.rim_asked = zones.rim;
   if (holes.empty()) return check;
   if (placed.mesh) {
     std::vector<Segment> boundary = boundary_segments(*placed.mesh);
@@ -24,14 +23,13 @@ ZoneCheck check_zones(std::span<const HoleDisc> holes, const Options& options, c
       check.rim = rim;
     }
   }
-  if (options.keep_out.empty() && options.keep_out_boxes.empty()) return check;
+  if (!zones.any_keep_out()) return check;
   double clearance = std::numeric_limits<double>::infinity();
   for (const HoleDisc& h : holes) {
     double nearest = std::numeric_limits<double>::infinity();
-    for (const KeepOutSphere& k : options.keep_out)
-      nearest = std::min(nearest, (h.centre - vec(k.centre)).norm() - k.radius);
-    for (const KeepOutBox& k : options.keep_out_boxes)
-      nearest = std::min(nearest, box_distance(h.centre, SolidBox::spanned(vec(k.min), vec(k.max))));
+    for (const SolidSphere& k : zones.keep_out)
+      nearest = std::min(nearest, (h.centre - k.center).norm() - k.radius);
+    for (const SolidBox& k : zones.keep_out_boxes) nearest = std::min(nearest, box_distance(h.centre, k));
     nearest -= 0.5 * h.diameter;
     if (nearest < 0.0) ++check.holes_in_keep_outs;
     clearance = std::min(clearance, nearest);

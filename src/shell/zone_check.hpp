@@ -9,7 +9,7 @@
 
 #include "core/types.hpp"
 #include "input/placement.hpp"
-#include "poreshell/options.hpp"
+#include "pattern/solid_zones.hpp"
 
 namespace poreshell {
 
@@ -19,7 +19,7 @@ struct HoleDisc {
 };
 
 struct ZoneCheck {
-  double rim_asked = 0.0;  // the rim the run applied (Options::rim, the default resolved), mm
+  double rim_asked = 0.0;  // the rim the run applied (ZoneOptions::rim, the default resolved), mm
   // The least distance from a hole's edge (centre distance minus the radius) to the mesh's open
   // boundary; NaN without an open boundary or holes. A rim of R mm is honoured when this is >= R.
   double rim = std::numeric_limits<double>::quiet_NaN();
@@ -29,6 +29,6 @@ struct ZoneCheck {
   std::int64_t holes_in_keep_outs = 0;
 };
 
-ZoneCheck check_zones(std::span<const HoleDisc> holes, const Options& options, const PlacedSurface& placed);
+ZoneCheck check_zones(std::span<const HoleDisc> holes, const ZoneOptions& zones, const PlacedSurface& placed);
 
 }  // namespace poreshell

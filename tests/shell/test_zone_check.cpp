@@ -31,7 +31,7 @@ TEST(ZoneCheck, RimIsTheLeastDistanceFromAHoleEdgeToTheBoundary) {
   const PlacedSurface sheet = flat_sheet();
   // Nearest edges: the first disc is 12 mm from x = 0 (edge 10 mm away), the second 9 mm from y = 60.
   const std::vector<HoleDisc> holes{{{12.0, 30.0, 0.0}, 4.0}, {{50.0, 51.0, 0.0}, 6.0}};
-  const ZoneCheck check = check_zones(holes, Options{}, sheet);
+  const ZoneCheck check = check_zones(holes, ZoneOptions{}, sheet);
   EXPECT_NEAR(check.rim, 6.0, 1e-9);  // 9 - 3
   EXPECT_TRUE(std::isnan(check.keep_out_clearance));
   EXPECT_EQ(check.holes_in_keep_outs, 0);
@@ -39,9 +39,9 @@ TEST(ZoneCheck, RimIsTheLeastDistanceFromAHoleEdgeToTheBoundary) {
 
 TEST(ZoneCheck, KeepOutsCountTheHolesThatReachIn) {
   const PlacedSurface sheet = flat_sheet();
-  Options options;
-  options.keep_out.push_back({{30.0, 30.0, 0.0}, 5.0});
-  options.keep_out_boxes.push_back({{70.0, 0.0, -1.0}, {60.0, 20.0, 1.0}});  // corners in any order
+  ZoneOptions options;
+  options.keep_out.push_back({Vec3(30.0, 30.0, 0.0), 5.0});
+  options.keep_out_boxes.push_back(SolidBox::spanned({70.0, 0.0, -1.0}, {60.0, 20.0, 1.0}));
   const std::vector<HoleDisc> holes{
       {{40.0, 30.0, 0.0}, 4.0},  // 10 from the sphere's centre: its edge 3 mm clear
       {{65.0, 25.0, 0.0}, 6.0},  // 5 mm above the box, radius 3: 2 mm clear
@@ -57,10 +57,10 @@ TEST(ZoneCheck, KeepOutsCountTheHolesThatReachIn) {
 
 TEST(ZoneCheck, NoHolesOrNoBoundaryGiveNaN) {
   const PlacedSurface sheet = flat_sheet();
-  EXPECT_TRUE(std::isnan(check_zones({}, Options{}, sheet).rim));
+  EXPECT_TRUE(std::isnan(check_zones({}, ZoneOptions{}, sheet).rim));
   PlacedSurface shape = place_surface(ShapeInput{ShapeKind::sphere, 20.0, Unit::mm}, Options{});
   const std::vector<HoleDisc> holes{{{0.0, 0.0, 20.0}, 4.0}};
-  EXPECT_TRUE(std::isnan(check_zones(holes, Options{}, shape).rim));
+  EXPECT_TRUE(std::isnan(check_zones(holes, ZoneOptions{}, shape).rim));
 }
 
 }  // namespace
