@@ -106,12 +106,12 @@ void compare(const std::vector<std::string>& cases, int seeds, int every) {
     options.voxel_size = plan.voxel_size;
     options.iso = {plan.level};
     options.phi_bar = plan.phi_bar;
-    const PlacedSurface placed = place_surface(c.input, options);
+    const PlacedSurface placed = place_surface(c.input, placement_options(options));
     const Grid grid = Grid::fitted(placed.domain, placed.resolution);
     const NarrowBand band = build_band(*placed.surface, grid);
     ModelParameters model;
     double dt = 0.0;
-    choose_model(options, plan, placed.mm_per_grid(), grid.h(), model, dt);
+    choose_model(solve_options(options, true), plan, placed.mm_per_grid(), grid.h(), model, dt);
     fmt::print("== {}: {} mm holes at {} mm, grid {}x{}x{}, voxel {:.3f} mm, band {} voxels, level {:.3f}\n",
                name, c.diameter, c.spacing, grid.dims()[0], grid.dims()[1], grid.dims()[2], plan.voxel_size,
                band.size(), plan.level);

@@ -24,13 +24,12 @@ namespace {
 constexpr double kSmallestModelMm = 1e-3, kLargestModelMm = 1e6;
 
 // Grid points along the longest side: `resolution`, or from `voxel_size` over the longest extent.
-int resolution_for(const Options& c, double mm_per_unit, double longest_extent, int padding_cells) {
+int resolution_for(const PlacementOptions& c, double mm_per_unit, double longest_extent, int padding_cells) {
   if (!(c.voxel_size > 0.0)) return c.resolution;
   const double voxel_size = c.voxel_size / mm_per_unit;  // in the input's units
-  const bool holes = c.hole_diameter > 0.0 || c.spacing > 0.0 || c.porosity > 0.0;
   const double n = std::round(longest_extent / voxel_size) + 1 + 2 * padding_cells;
   const std::string points = std::to_string(static_cast<long long>(n));
-  if (n > 2048 && holes)  // the hole map chose the voxel size
+  if (n > 2048 && c.holes_in_mm)  // the hole map chose the voxel size
     throw OptionError("hole_diameter",
                       "holes this small need " + points +
                           " grid points along the model's longest side (at most 2048): ask for holes and "
@@ -40,7 +39,7 @@ int resolution_for(const Options& c, double mm_per_unit, double longest_extent, 
     throw OptionError("voxel_size", "`voxel_size` needs " + points +
                                         " grid points along the longest side (at most 2048): choose a larger "
                                         "voxel size");
-  if (n < 17 && holes)
+  if (n < 17 && c.holes_in_mm)
     throw OptionError("hole_diameter",
                       "holes this large leave only " + points +
                           " grid points along the model's longest side (17 at least): ask for smaller holes "
@@ -56,7 +55,7 @@ int resolution_for(const Options& c, double mm_per_unit, double longest_extent, 
 // is not one) fit nowhere: refused before the run rather than giving no holes, with the unit that would
 // make the model a print's size, if one does (issue 47: the bunny's metres read as millimetres were told
 // to ask for smaller holes).
-void check_holes_fit(const Options& c, const Vec3& extent_mm, double mm_per_unit, Unit unit,
+void check_holes_fit(const PlacementOptions& c, const Vec3& extent_mm, double mm_per_unit, Unit unit,
                      const std::string& what) {
   const double hole = c.hole_diameter > 0.0 ? c.hole_diameter : c.spacing;
   if (!(hole > 0.0)) return;
@@ -79,8 +78,8 @@ void check_holes_fit(const Options& c, const Vec3& extent_mm, double mm_per_unit
   throw OptionError(c.hole_diameter > 0.0 ? "hole_diameter" : "spacing", text);
 }
 
-void fit_to_unit_grid(std::vector<Vec3>& vertices, const Options& c, const std::string& what, Unit unit,
-                      PlacedSurface& placed) {
+void fit_to_unit_grid(std::vector<Vec3>& vertices, const PlacementOptions& c, const std::string& what,
+                      Unit unit, PlacedSurface& placed) {
   if (vertices.empty()) throw InputError(what + " has no vertices");
   Box box{vertices.front(), vertices.front()};
   for (const Vec3& v : vertices) {
@@ -123,7 +122,7 @@ void check_not_collinear(const std::vector<Vec3>& points, const std::string& wha
 }
 
 // A point cloud: splats (direct) or the paper's densify-and-segment route, on the grid it will get.
-void place_points(const PointsInput& in, const Options& c, PlacedSurface& placed) {
+void place_points(const PointsInput& in, const PlacementOptions& c, PlacedSurface& placed) {
   std::vector<Vec3> points(in.points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
     points[i] = Vec3(in.points[i][0], in.points[i][1], in.points[i][2]);
@@ -157,7 +156,7 @@ void place_points(const PointsInput& in, const Options& c, PlacedSurface& placed
   placed.input.segmentation_iterations = stats.iterations;
 }
 
-void place_shape(const ShapeInput& in, const Options& c, PlacedSurface& placed) {
+void place_shape(const ShapeInput& in, const PlacementOptions& c, PlacedSurface& placed) {
   const std::string name = in.kind == ShapeKind::torus ? "torus" : "sphere";
   if (!(in.radius_mm >= 0.0) || !std::isfinite(in.radius_mm))
     throw OptionError("radius_mm", "`radius_mm` must be a positive length in millimetres");
@@ -180,7 +179,7 @@ void place_shape(const ShapeInput& in, const Options& c, PlacedSurface& placed) 
   placed.resolution = resolution_for(c, placed.input.millimetres_per_unit, 1.0 / placed.input.scale, 0);
 }
 
-void place_mesh(const MeshInput& in, const Options& c, PlacedSurface& placed) {
+void place_mesh(const MeshInput& in, const PlacementOptions& c, PlacedSurface& placed) {
   TriangleMesh mesh = to_triangle_mesh(in.mesh);
   const MeshInputStats stats = clean_triangle_mesh(mesh);
   placed.input = {"mesh",
@@ -209,7 +208,7 @@ TriangleMesh to_triangle_mesh(const Mesh& mesh) {
   return out;
 }
 
-PlacedSurface place_surface(const Input& input, const Options& options) {
+PlacedSurface place_surface(const Input& input, const PlacementOptions& options) {
   PlacedSurface placed;
   std::visit(
       [&](const auto& in) {

@@ -214,7 +214,8 @@ class PipelineRun {
     const SolidZones zones = [&](const NarrowBand& b, double epsilon) {
       return solid_zones(zones_, placed_, b, epsilon, mask_, features_);
     };
-    solved_ = solve_pattern(options_, result_.plan, placed_, *grid_, band, zones, monitor_);
+    solved_ = solve_pattern(solve_options(options_, result_.plan.has_value()), result_.plan, placed_, *grid_,
+                            band, zones, monitor_);
     result_.solve = solved_;  // the summary: phi and the zone weights stay here
     result_.seconds_solve = seconds_since(t);
     result_.peak_rss_after_solve = peak_rss_bytes();
@@ -397,14 +398,6 @@ class PipelineRun {
 
 }  // namespace
 
-ZoneOptions zone_options(const Options& o) {
-  ZoneOptions zones{o.rim, {}, {}, o.thin_feature_ratio, o.crease_angle};
-  for (const KeepOutSphere& k : o.keep_out) zones.keep_out.push_back({vec(k.centre), k.radius});
-  for (const KeepOutBox& k : o.keep_out_boxes)
-    zones.keep_out_boxes.push_back(SolidBox::spanned(vec(k.min), vec(k.max)));
-  return zones;
-}
-
 PreparedInput prepare_input(const Input& input, const Options& given) {
   validate(given);
   const auto start = std::chrono::steady_clock::now();
@@ -421,7 +414,7 @@ PreparedInput prepare_input(const Input& input, const Options& given) {
     options.iso = {prepared.plan->level};
     options.phi_bar = prepared.plan->phi_bar;
   }
-  prepared.placed = place_surface(input, options);
+  prepared.placed = place_surface(input, placement_options(options));
   // The default rim: half a hole along an open outline, so that none is cut open (issue 51). Closed
   // surfaces and the paper's parameters get none, so that their runs are as before.
   if (std::isnan(options.rim)) {

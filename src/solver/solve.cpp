@@ -34,20 +34,6 @@ double solve_fraction(double first_ec, double ec, double tolerance, int step, in
 
 }  // namespace
 
-StopRule resolve_stop_rule(const Options& c, Layout layout) {
-  if (c.stop != StopRule::automatic) return c.stop;
-  // From the paper's noise the holes rule stops while the layout still glides (up to 0.24 spacing on
-  // the bunny, docs/solver.md "Stop rules"): there it is only the preview's. From the even layout's
-  // discs e_c falls under the tolerance while two discs may still be merging (the bunny's base: a
-  // figure-eight hole at step 30); only the holes rule waits for that.
-  return c.preview || layout == Layout::cvt ? StopRule::holes : StopRule::paper;
-}
-
-Layout resolve_layout(const Options& c, bool holes_in_mm) {
-  if (c.layout != Layout::automatic) return c.layout;
-  return holes_in_mm ? Layout::cvt : Layout::paper;
-}
-
 namespace {
 
 // The even layout's start: discs at a centroidal Voronoi tessellation of the surface's free area
@@ -81,14 +67,14 @@ std::vector<double> even_layout_start(const PatternPlan& plan, const PlacedSurfa
 
 }  // namespace
 
-HoleStopOptions hole_stop_options(const Options& c, double min_spread) {
+HoleStopOptions hole_stop_options(const SolveOptions& c, double min_spread) {
   HoleStopOptions o;
-  o.level = c.iso.empty() ? 0.0 : c.iso.front();
+  o.level = c.level;
   o.min_spread = min_spread;
   return o;
 }
 
-void choose_model(const Options& c, const std::optional<PatternPlan>& plan, double mm_per_grid, double h,
+void choose_model(const SolveOptions& c, const std::optional<PatternPlan>& plan, double mm_per_grid, double h,
                   ModelParameters& model, double& dt) {
   if (!plan) {
     model = ModelParameters{c.alpha, epsilon_m(c.epsilon_m, h), c.phi_bar};
@@ -101,7 +87,7 @@ void choose_model(const Options& c, const std::optional<PatternPlan>& plan, doub
   dt = cal.dt_per_epsilon_squared * eps * eps;
 }
 
-SolveResult solve_pattern(const Options& c, const std::optional<PatternPlan>& plan,
+SolveResult solve_pattern(const SolveOptions& c, const std::optional<PatternPlan>& plan,
                           const PlacedSurface& placed, const Grid& grid, const NarrowBand& band,
                           const SolidZones& zones, RunMonitor& monitor) {
   SolveResult result;
@@ -127,8 +113,8 @@ SolveResult solve_pattern(const Options& c, const std::optional<PatternPlan>& pl
   // Separated phases span about [-1, 1]; the decayed noise of the quiet phase spans far less.
   if (uniform_state_unstable(result.model.alpha, result.model.epsilon, result.model.phi_bar))
     run_options.min_spread = 1.0;
-  result.layout = resolve_layout(c, plan.has_value());
-  result.stop_rule = resolve_stop_rule(c, result.layout);
+  result.layout = c.layout;
+  result.stop_rule = c.stop;
   const bool holes_rule = result.stop_rule == StopRule::holes;
   std::shared_ptr<HoleStop> current_stop;  // the holes rule of the run under way
   const auto make_stop = [&](const NarrowBand& b) {

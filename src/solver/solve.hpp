@@ -20,6 +20,27 @@
 
 namespace poreshell {
 
+// What the solve stage is asked for: the request's share for it, the automatic choices made
+// (pipeline/stage_options.hpp).
+struct SolveOptions {
+  // The paper's model, eq. (2.1), where no hole plan gives one.
+  double alpha = 1400.0, epsilon_m = 4.0, dt_h = 100.0, phi_bar = -0.3;
+  double initial_amplitude = 0.5;  // of the starting noise about phi_bar
+  std::uint64_t seed = 1;
+  double level = 0.0;  // the first pore level: the holes rule counts holes there
+  bool preview = false;
+  Layout layout = Layout::paper;    // never automatic
+  StopRule stop = StopRule::paper;  // never automatic
+  double tolerance = 1e-3;          // the paper's rule: e_c below it
+  int max_steps = 2000;
+  int energy_every = 0;
+  SolverKind solver = SolverKind::fast;
+  double fast_tolerance = 1e-3, min_stabilisation = 0.0;
+  bool coarse_start = true;
+  InnerIteration inner = InnerIteration::gauss_seidel;  // the reference solver's
+  double inner_tolerance = 1e-8;
+};
+
 // What a solve made and how, as the report gives it (PipelineResult holds one).
 struct SolveSummary {
   ModelParameters model;
@@ -39,25 +60,18 @@ struct SolveResult : SolveSummary {
   std::vector<double> zone_weight;  // per band voxel, how solid (empty: no zones)
 };
 
-// The rule a run stops by: Options::stop, with automatic resolved (holes for a preview and for the
-// even layout, else the paper's).
-StopRule resolve_stop_rule(const Options& options, Layout layout);
-
-// The layout a run makes: Options::layout, with automatic resolved (cvt for holes in mm).
-Layout resolve_layout(const Options& options, bool holes_in_mm);
-
 // The holes rule's settings for this run (docs/solver.md "Stop rules").
-HoleStopOptions hole_stop_options(const Options& options, double min_spread);
+HoleStopOptions hole_stop_options(const SolveOptions& options, double min_spread);
 
 // Per band voxel how solid the wall must stay (pattern/solid_zones.hpp), for a band and epsilon.
 using SolidZones = std::function<std::vector<double>(const NarrowBand&, double epsilon)>;
 
 // The model for this grid: the hole map's (epsilon from the spacing, dt from epsilon^2) when `plan` is
 // set, else the paper's (epsilon_m from h, dt = K h).
-void choose_model(const Options& options, const std::optional<PatternPlan>& plan, double mm_per_grid,
+void choose_model(const SolveOptions& options, const std::optional<PatternPlan>& plan, double mm_per_grid,
                   double h, ModelParameters& model, double& dt);
 
-SolveResult solve_pattern(const Options& options, const std::optional<PatternPlan>& plan,
+SolveResult solve_pattern(const SolveOptions& options, const std::optional<PatternPlan>& plan,
                           const PlacedSurface& placed, const Grid& grid, const NarrowBand& band,
                           const SolidZones& zones, RunMonitor& monitor);
 

@@ -22,7 +22,7 @@ PlacedSurface flat_sheet() {
       input.mesh.triangles.push_back({a, b, d});
       input.mesh.triangles.push_back({a, d, c});
     }
-  Options options;
+  PlacementOptions options;
   options.resolution = 65;
   return place_surface(input, options);
 }
@@ -58,7 +58,7 @@ TEST(ZoneCheck, KeepOutsCountTheHolesThatReachIn) {
 TEST(ZoneCheck, NoHolesOrNoBoundaryGiveNaN) {
   const PlacedSurface sheet = flat_sheet();
   EXPECT_TRUE(std::isnan(check_zones({}, ZoneOptions{}, sheet).rim));
-  PlacedSurface shape = place_surface(ShapeInput{ShapeKind::sphere, 20.0, Unit::mm}, Options{});
+  PlacedSurface shape = place_surface(ShapeInput{ShapeKind::sphere, 20.0, Unit::mm}, PlacementOptions{});
   const std::vector<HoleDisc> holes{{{0.0, 0.0, 20.0}, 4.0}};
   EXPECT_TRUE(std::isnan(check_zones(holes, ZoneOptions{}, shape).rim));
 }
