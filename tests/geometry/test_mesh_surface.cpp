@@ -8,7 +8,6 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <map>
 #include <random>
 #include <set>
 #include <string>
@@ -18,44 +17,15 @@
 #include "core/error.hpp"
 #include "geometry/mesh_surface.hpp"
 #include "io/mesh_io.hpp"
+#include "test_meshes.hpp"
 
 using namespace poreshell;
 namespace fs = std::filesystem;
+using poreshell::test_support::icosphere;
 
 namespace {
 
 // ---------- meshes ----------
-
-TriangleMesh icosphere(int subdivisions, const Vec3& center, double radius) {
-  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  TriangleMesh m;
-  m.vertices = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
-                {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
-  m.triangles = {{0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-                 {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-                 {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
-  for (auto& v : m.vertices) v.normalize();
-  for (int s = 0; s < subdivisions; ++s) {
-    std::map<std::pair<int, int>, int> midpoint;
-    const auto mid = [&](int a, int b) {
-      const auto key = std::minmax(a, b);
-      if (auto it = midpoint.find(key); it != midpoint.end()) return it->second;
-      m.vertices.push_back((m.vertices[a] + m.vertices[b]).normalized());
-      return midpoint[key] = static_cast<int>(m.vertices.size() - 1);
-    };
-    std::vector<std::array<std::int32_t, 3>> next;
-    for (const auto& f : m.triangles) {
-      const int ab = mid(f[0], f[1]), bc = mid(f[1], f[2]), ca = mid(f[2], f[0]);
-      next.push_back({f[0], ab, ca});
-      next.push_back({f[1], bc, ab});
-      next.push_back({f[2], ca, bc});
-      next.push_back({ab, bc, ca});
-    }
-    m.triangles = next;
-  }
-  for (auto& v : m.vertices) v = center + radius * v;
-  return m;
-}
 
 // Open, curved sheet z = f(x, y) over [lo, hi]^2.
 TriangleMesh bumpy_sheet(int n, double lo, double hi) {

@@ -7,7 +7,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <map>
 #include <numbers>
 #include <utility>
 
@@ -36,36 +35,6 @@ Grid unit_grid() {
   return Grid(Vec3::Zero(), 1.0 / (kN - 1), {kN, kN, kN});
 }
 
-// Icosahedron (outward counter-clockwise faces), each subdivision splits a triangle into four and
-// projects the new vertices onto the sphere.
-TriangleMesh icosphere(int subdivisions) {
-  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  TriangleMesh m;
-  m.vertices = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
-                {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
-  for (Vec3& v : m.vertices) v.normalize();
-  m.triangles = {{0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-                 {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-                 {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
-  for (int s = 0; s < subdivisions; ++s) {
-    std::map<std::pair<std::int32_t, std::int32_t>, std::int32_t> midpoint;
-    auto mid = [&](std::int32_t a, std::int32_t b) {
-      const auto key = std::minmax(a, b);
-      const auto [it, added] = midpoint.try_emplace(key, static_cast<std::int32_t>(m.vertices.size()));
-      if (added) m.vertices.push_back((m.vertices[a] + m.vertices[b]).normalized());
-      return it->second;
-    };
-    std::vector<std::array<std::int32_t, 3>> finer;
-    for (const auto& [a, b, c] : m.triangles) {
-      const std::int32_t ab = mid(a, b), bc = mid(b, c), ca = mid(c, a);
-      finer.insert(finer.end(), {{a, ab, ca}, {b, bc, ab}, {c, ca, bc}, {ab, bc, ca}});
-    }
-    m.triangles = std::move(finer);
-  }
-  for (Vec3& v : m.vertices) v = kCenter + kRadius * v;
-  return m;
-}
-
 // Distance to the hemisphere's rim, the circle of radius r in the plane z = 0.5.
 double rim_distance(const Vec3& p) {
   const double rho = (p - kCenter).head<2>().norm();
@@ -90,7 +59,7 @@ double coefficient_of_variation(const std::vector<std::int64_t>& sizes) {
 TEST(MeshPattern, IcosphereMatchesAnalyticSphere) {
   // 5 subdivisions: edges of about 0.035 rad * r = 0.6 h, chords inside the sphere by at most
   // r (1 - cos(0.0175)) ~ 5e-5 = 0.003 h, so the faceting is invisible to the band.
-  const TriangleMesh ico = icosphere(5);
+  const TriangleMesh ico = test_support::icosphere(5, kCenter, kRadius);
   ASSERT_EQ(ico.triangles.size(), 20480u);
   const MeshTopology ico_topology = analyze_topology(ico);
   EXPECT_TRUE(ico_topology.closed() && ico_topology.manifold() && ico_topology.oriented());

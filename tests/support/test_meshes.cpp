@@ -1,8 +1,11 @@
 #include "test_meshes.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <fstream>
+#include <map>
 #include <numbers>
 #include <utility>
 
@@ -117,6 +120,34 @@ Mesh square_sheet(double lo, double side, int n, double z) {
       m.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
       m.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
     }
+  return m;
+}
+
+TriangleMesh icosphere(int subdivisions, const Vec3& center, double radius) {
+  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
+  TriangleMesh m;
+  m.vertices = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+                {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
+  for (Vec3& v : m.vertices) v.normalize();
+  m.triangles = {{0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+                 {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
+                 {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+  for (int s = 0; s < subdivisions; ++s) {
+    std::map<std::pair<std::int32_t, std::int32_t>, std::int32_t> midpoint;
+    const auto mid = [&](std::int32_t a, std::int32_t b) {
+      const auto [it, added] =
+          midpoint.try_emplace(std::minmax(a, b), static_cast<std::int32_t>(m.vertices.size()));
+      if (added) m.vertices.push_back((m.vertices[a] + m.vertices[b]).normalized());
+      return it->second;
+    };
+    std::vector<std::array<std::int32_t, 3>> finer;
+    for (const auto& [a, b, c] : m.triangles) {
+      const std::int32_t ab = mid(a, b), bc = mid(b, c), ca = mid(c, a);
+      finer.insert(finer.end(), {{a, ab, ca}, {b, bc, ab}, {c, ca, bc}, {ab, bc, ca}});
+    }
+    m.triangles = std::move(finer);
+  }
+  for (Vec3& v : m.vertices) v = center + radius * v;
   return m;
 }
 

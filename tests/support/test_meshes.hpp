@@ -31,6 +31,11 @@ Mesh upper_hemisphere(double r, int rings, int segments);
 // A flat square sheet [lo, lo + side]^2 in the plane z, normal +z: n x n squares, two triangles each.
 Mesh square_sheet(double lo, double side, int n, double z = 0.0);
 
+// A sphere from the icosahedron (outward counter-clockwise faces), each subdivision splitting a
+// triangle into four and projecting the new vertices onto the sphere: 20 * 4^subdivisions triangles
+// of nearly equal size, about `center`.
+TriangleMesh icosphere(int subdivisions, const Vec3& center, double radius);
+
 // The same mesh with every triangle turned over (normals inward).
 Mesh inverted(Mesh mesh);
 
