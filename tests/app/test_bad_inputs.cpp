@@ -47,9 +47,9 @@ const std::string kOptionRun = "--max-steps 5 --tol 1e-12 --quiet";
 
 using poreshell::test_support::lines;
 using poreshell::test_support::package_3mf;
-using poreshell::test_support::stored_zip;
 using poreshell::test_support::read_file;
 using poreshell::test_support::run_program;
+using poreshell::test_support::stored_zip;
 
 // For the shell; appended piece by piece, since "'" + s + "'" trips g++ 12's -Wrestrict false positive.
 std::string quoted(const fs::path& p) {
