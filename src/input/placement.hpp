@@ -55,14 +55,15 @@ struct PlacedSurface {
   }
 };
 
-// What placing the input is asked for: the request's share for it (pipeline/stage_options.hpp).
+// What placing the input is asked for: the request's share for it, filled by placement_options()
+// (pipeline/stage_options.hpp); no defaults of its own, so that Options' are the only ones.
 struct PlacementOptions {
-  int resolution = 131;     // grid points along the longest side, where voxel_size is 0
-  double voxel_size = 0.0;  // mm (the hole map's, for holes in mm)
-  double scale = 1.0;       // the input's coordinates times this, before its unit
-  PointRoute point_route = PointRoute::direct;
-  double hole_diameter = 0.0, spacing = 0.0;  // mm as asked (0: not), to check that holes fit
-  bool holes_in_mm = false;                   // the hole map chose voxel_size
+  int resolution{};     // grid points along the longest side, where voxel_size is 0
+  double voxel_size{};  // mm (the hole map's, for holes in mm)
+  double scale{};       // the input's coordinates times this, before its unit
+  PointRoute point_route{};
+  double hole_diameter{}, spacing{};  // mm as asked (0: not), to check that holes fit
+  bool holes_in_mm{};                 // the hole map chose voxel_size
 };
 
 // Makes the surface of the input and places it on the grid it will get. Throws InputError for input

@@ -34,8 +34,8 @@ struct SolidBox {
 double segment_distance(const Vec3& p, const Segment& s);
 double box_distance(const Vec3& x, const SolidBox& b);
 
-// What the solid zones are asked for: the request's share for this room (pipeline.hpp's zone_options()
-// resolves it once). Lengths in mm, in the input's frame.
+// What the solid zones are asked for: the request's share for this room (zone_options() in
+// pipeline/stage_options.hpp resolves it once). Lengths in mm, in the input's frame.
 struct ZoneOptions {
   double rim = 0.0;  // along the open boundary; 0: none
   std::vector<SolidSphere> keep_out;

@@ -87,9 +87,9 @@ ShellSamples sample_printable_shell(const Options& c, const PlacedSurface& place
 // A preview's output: the surface with phi at each vertex, and the band's holes. A mesh input is shown
 // as itself (preview_surface_mesh: the user's own triangles, and points clicked on it lie on the
 // surface); other inputs as a thin slab of the band ({|psi| < h}, closed at the band's resolution).
-void preview_output(double level, const Options& options, const PlacedSurface& placed, const NarrowBand& band,
-                    std::span<const double> phi, std::span<const double> zone_weight, PipelineResult& result,
-                    RunMonitor& monitor) {
+void preview_output(double level, const ZoneOptions& zones, const PlacedSurface& placed,
+                    const NarrowBand& band, std::span<const double> phi, std::span<const double> zone_weight,
+                    PipelineResult& result, RunMonitor& monitor) {
   monitor.stage("mesh");
   const auto t = std::chrono::steady_clock::now();
   MeshOutput out;
@@ -98,7 +98,7 @@ void preview_output(double level, const Options& options, const PlacedSurface& p
   out.spots_at_iso = static_cast<std::int64_t>(out.holes.holes.size());
   std::vector<HoleDisc> discs;
   for (const BandHole& h : out.holes.holes) discs.push_back({h.centre, h.diameter});
-  out.zones = check_zones(discs, zone_options(options), placed);
+  out.zones = check_zones(discs, zones, placed);
   out.mesh = placed.mesh ? preview_surface_mesh(*placed.mesh, band.grid().h()) : surface_slab_mesh(band);
   monitor.check();
   out.pattern.resize(out.mesh.vertices.size());
@@ -242,7 +242,7 @@ class PipelineRun {
   }
 
   PipelineResult preview() {
-    preview_output(options_.iso.front(), options_, placed_, *band_, phi_, solved_.zone_weight, result_,
+    preview_output(options_.iso.front(), zones_, placed_, *band_, phi_, solved_.zone_weight, result_,
                    monitor_);
     return finish();
   }

@@ -65,12 +65,13 @@ void add_warnings(const PipelineResult& r, const Options& options, Report& repor
             share(z.creases), share(z.rims), share(z.keep_outs)));
   // Issue 51: a keep-out that keeps none of the surface is most likely in another frame or unit. One
   // outside the model's bounds the estimate names before the run (estimate.cpp).
+  const ZoneOptions zones = zone_options(options);
   for (std::size_t k = 0; k < z.each_keep_out.size(); ++k) {
     if (z.each_keep_out[k].area > 0.0 || z.each_keep_out[k].outside_bounds) continue;
     report.warnings.push_back(fmt::format(
         "{} keeps none of the model's surface, which comes no nearer than {} mm to it; give it in the "
         "input's frame, in mm, over the part to keep solid",
-        keep_out_name(zone_options(options), k), readable(z.each_keep_out[k].gap_mm)));
+        keep_out_name(zones, k), readable(z.each_keep_out[k].gap_mm)));
   }
   for (const MeshOutput& m : r.meshes)
     if (!m.reduction_skipped.empty())

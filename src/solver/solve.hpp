@@ -20,25 +20,26 @@
 
 namespace poreshell {
 
-// What the solve stage is asked for: the request's share for it, the automatic choices made
-// (pipeline/stage_options.hpp).
+// What the solve stage is asked for: the request's share for it, the automatic choices made. Filled
+// field by field by solve_options() (pipeline/stage_options.hpp): no defaults of its own, so that
+// Options' are the only ones.
 struct SolveOptions {
   // The paper's model, eq. (2.1), where no hole plan gives one.
-  double alpha = 1400.0, epsilon_m = 4.0, dt_h = 100.0, phi_bar = -0.3;
-  double initial_amplitude = 0.5;  // of the starting noise about phi_bar
-  std::uint64_t seed = 1;
-  double level = 0.0;  // the first pore level: the holes rule counts holes there
-  bool preview = false;
-  Layout layout = Layout::paper;    // never automatic
-  StopRule stop = StopRule::paper;  // never automatic
-  double tolerance = 1e-3;          // the paper's rule: e_c below it
-  int max_steps = 2000;
-  int energy_every = 0;
-  SolverKind solver = SolverKind::fast;
-  double fast_tolerance = 1e-3, min_stabilisation = 0.0;
-  bool coarse_start = true;
-  InnerIteration inner = InnerIteration::gauss_seidel;  // the reference solver's
-  double inner_tolerance = 1e-8;
+  double alpha{}, epsilon_m{}, dt_h{}, phi_bar{};
+  double initial_amplitude{};  // of the starting noise about phi_bar
+  std::uint64_t seed{};
+  double level{};  // the first pore level: the holes rule counts holes there
+  bool preview{};
+  Layout layout{};     // never automatic
+  StopRule stop{};     // never automatic
+  double tolerance{};  // the paper's rule: e_c below it
+  int max_steps{};
+  int energy_every{};
+  SolverKind solver{};
+  double fast_tolerance{}, min_stabilisation{};
+  bool coarse_start{};
+  InnerIteration inner{};  // the reference solver's
+  double inner_tolerance{};
 };
 
 // What a solve made and how, as the report gives it (PipelineResult holds one).

@@ -24,6 +24,7 @@ PlacedSurface flat_sheet() {
     }
   PlacementOptions options;
   options.resolution = 65;
+  options.scale = 1.0;
   return place_surface(input, options);
 }
 
@@ -58,7 +59,10 @@ TEST(ZoneCheck, KeepOutsCountTheHolesThatReachIn) {
 TEST(ZoneCheck, NoHolesOrNoBoundaryGiveNaN) {
   const PlacedSurface sheet = flat_sheet();
   EXPECT_TRUE(std::isnan(check_zones({}, ZoneOptions{}, sheet).rim));
-  PlacedSurface shape = place_surface(ShapeInput{ShapeKind::sphere, 20.0, Unit::mm}, PlacementOptions{});
+  PlacementOptions grid;
+  grid.resolution = 65;
+  grid.scale = 1.0;
+  PlacedSurface shape = place_surface(ShapeInput{ShapeKind::sphere, 20.0, Unit::mm}, grid);
   const std::vector<HoleDisc> holes{{{0.0, 0.0, 20.0}, 4.0}};
   EXPECT_TRUE(std::isnan(check_zones(holes, ZoneOptions{}, shape).rim));
 }
