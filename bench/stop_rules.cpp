@@ -31,11 +31,11 @@
 #include "pattern/hole_map.hpp"
 #include "pattern/pattern.hpp"
 #include "pipeline/pipeline.hpp"
+#include "pipeline/solve_stage.hpp"
 #include "poreshell/poreshell.hpp"
 #include "solver/fast_solver.hpp"
 #include "solver/hole_stop.hpp"
 #include "solver/initial_condition.hpp"
-#include "solver/solve.hpp"
 #include "solver/time_stepping.hpp"
 
 namespace {

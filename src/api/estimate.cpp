@@ -17,10 +17,10 @@
 #include "pattern/solid_zones.hpp"
 #include "pipeline/pipeline.hpp"
 #include "pipeline/run_cost.hpp"
+#include "pipeline/solve_stage.hpp"
 #include "pipeline/validate.hpp"
 #include "poreshell/poreshell.hpp"
 #include "shell/shell.hpp"
-#include "solver/solve.hpp"
 
 namespace poreshell {
 namespace {

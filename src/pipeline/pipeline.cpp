@@ -22,10 +22,10 @@
 #include "pattern/solid_zones.hpp"
 #include "pattern/spot_rules.hpp"
 #include "pipeline/run_cost.hpp"
+#include "pipeline/solve_stage.hpp"
 #include "pipeline/validate.hpp"
 #include "shell/narrow_volume.hpp"
 #include "shell/shell.hpp"
-#include "solver/solve.hpp"
 
 namespace poreshell {
 namespace {

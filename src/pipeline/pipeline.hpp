@@ -20,6 +20,7 @@
 #include "pattern/hole_map.hpp"
 #include "pattern/pattern.hpp"
 #include "pattern/solid_zones.hpp"
+#include "pipeline/solve_stage.hpp"
 #include "pipeline/stage_options.hpp"
 #include "poreshell/geometry.hpp"
 #include "poreshell/options.hpp"
@@ -30,7 +31,6 @@
 #include "solver/fast_solver.hpp"
 #include "solver/model.hpp"
 #include "solver/reference_solver.hpp"
-#include "solver/solve.hpp"
 #include "solver/time_stepping.hpp"
 
 namespace poreshell {

@@ -8,9 +8,9 @@
 #include "band/memory_estimate.hpp"
 #include "core/error.hpp"
 #include "geometry/refine.hpp"
+#include "pipeline/solve_stage.hpp"
 #include "pipeline/validate.hpp"
 #include "shell/shell.hpp"
-#include "solver/solve.hpp"
 
 namespace poreshell {
 namespace {

@@ -4,8 +4,8 @@
 
 #include "input/placement.hpp"
 #include "pattern/solid_zones.hpp"
+#include "pipeline/solve_stage.hpp"
 #include "poreshell/options.hpp"
-#include "solver/solve.hpp"
 
 namespace poreshell {
 

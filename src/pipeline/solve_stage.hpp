@@ -1,6 +1,8 @@
 #pragma once
 // The solve stage: the model on this grid (the paper's parameters or the hole map's), the initial
-// state (noise, or the coarse start's carried pattern), and the run to the steady state.
+// state (noise, the even layout's discs, or the coarse start's carried pattern), and the run to the
+// steady state. It orders the solver's parts with the pattern's (the layout, the solid zones), so it
+// lives with the pipeline: solver/ holds the numerics alone.
 
 #include <cstddef>
 #include <functional>

@@ -1,4 +1,4 @@
-#include "solver/solve.hpp"
+#include "pipeline/solve_stage.hpp"
 
 #include <fmt/format.h>
 
