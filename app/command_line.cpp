@@ -94,15 +94,15 @@ CLI::Option* add_table_flag(CLI::App& app, const OptionInfo& info, poreshell::Op
         } else if constexpr (std::is_arithmetic_v<T>) {
           option = app.add_option(flag, value, help);
           if (const auto check = sign_check(info)) option->check(*check);
-          // A default that means "not given" is not shown (NaN: the rim's).
+          // A default that means "not given" is not shown (NaN: the rim's, the paper's model's).
           bool given = !info.zero_unset;
           if constexpr (std::is_floating_point_v<T>) given = given && !std::isnan(defaults.*member);
           if (given) option->capture_default_str();
         } else if constexpr (std::is_same_v<T, std::vector<double>>) {
           option = app.add_option(flag, value, help)
                        ->delimiter(',')
-                       ->allow_extra_args(false)  // one token per flag: "--iso 0.3 OUT" takes no stray word
-                       ->capture_default_str();
+                       ->allow_extra_args(false);  // one token per flag: "--iso 0.3 OUT" takes no stray word
+          // Empty, "not given" (the pore levels'), is not shown.
         } else if constexpr (std::is_same_v<T, std::string>) {
           option = app.add_option(flag, value, help);
         } else if constexpr (std::is_same_v<T, std::optional<poreshell::Grade>>) {

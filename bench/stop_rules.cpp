@@ -187,7 +187,7 @@ void compare(const std::vector<std::string>& cases, int seeds, int every) {
         Options p = options;
         p.voxel_size = 0.0;
         p.iso = {0.0};
-        p.phi_bar = Options{}.phi_bar;
+        p.phi_bar = PaperModel::phi_bar;
         p.seed = static_cast<std::uint64_t>(seed);
         p.preview = true;
         p.layout = Layout::paper;  // the even layout's preview runs no equation

@@ -198,15 +198,6 @@ poreshell::Options to_options(const py::dict& kwargs, const std::string& caller)
     options.grade = std::move(grade);
     poreshell::validate(options);
   }
-  // As the CLI: with holes asked in mm, the hole map chooses the model, which may then not be given
-  // (Options cannot tell a default from a value given).
-  for (const char* hole : {"hole_diameter", "spacing", "porosity"}) {
-    if (!kwargs.contains(hole) || kwargs[hole].is_none()) continue;
-    for (const char* model : {"alpha", "epsilon_m", "dt_h", "phi_bar", "iso"})
-      if (kwargs.contains(model) && !kwargs[model].is_none())
-        throw py::value_error(std::string("`") + model + "` cannot be given with `" + hole +
-                              "`: the hole map chooses it from the holes in mm");
-  }
   return options;
 }
 

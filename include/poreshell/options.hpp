@@ -117,6 +117,14 @@ struct KeepOutBox {
   Point min{}, max{};  // mm, input frame
 };
 
+// An option's "not given" where 0 is a value: the rim, the paper's model.
+inline constexpr double kNotGiven = std::numeric_limits<double>::quiet_NaN();
+
+// The paper's section 3.2 model, where its options are not given and no holes are asked in mm.
+struct PaperModel {
+  static constexpr double alpha = 1400.0, epsilon_m = 4.0, dt_h = 100.0, phi_bar = -0.3, iso = 0.0;
+};
+
 // The shell's wall where holes are asked in mm and no `wall` is given (issue 51: before, 3.81 voxels of
 // the hole map's grid, so that the part's thickness changed with the hole size).
 inline constexpr double kDefaultWallMm = 2.0;
@@ -146,7 +154,7 @@ struct Options {
   // mm of solid along the mesh's open boundary. NaN (the default): half a hole where holes are asked in mm
   // (the fast solver), so that no hole is cut open by the outline; none with the paper's parameters.
   // 0: no rim, holes may be cut by the outline (notches).
-  double rim = std::numeric_limits<double>::quiet_NaN();
+  double rim = kNotGiven;
   // Thin parts and sharp creases kept whole (holes asked in mm, mesh inputs): no hole where the part is
   // thinner than thin_feature_ratio times the hole diameter (ears, fingers), nor within half a hole of
   // an edge sharper than crease_angle degrees. 0 turns either off.
@@ -165,12 +173,14 @@ struct Options {
   // about six times the reduction's time (the way max_triangles always reduces).
   bool lean = false;
 
-  // The model, eq. (2.1), in the paper's frame (the grid's longest side is 1).
-  double alpha = 1400.0;
-  double epsilon_m = 4.0;  // epsilon = m h / (2 sqrt 2 atanh 0.9)
-  double dt_h = 100.0;     // time step in units of h
-  double phi_bar = -0.3;
-  std::vector<double> iso{0.0};    // pore levels: one output each
+  // The paper's model, eq. (2.1), in the paper's frame (the grid's longest side is 1). Not given (NaN,
+  // `iso` empty): PaperModel's values, or with holes in mm the hole map's; with holes in mm giving any of
+  // them is refused (validate()), since the hole map sets them.
+  double alpha = kNotGiven;
+  double epsilon_m = kNotGiven;  // epsilon = m h / (2 sqrt 2 atanh 0.9)
+  double dt_h = kNotGiven;       // time step in units of h
+  double phi_bar = kNotGiven;
+  std::vector<double> iso;         // pore levels: one output each
   double initial_amplitude = 0.5;  // phi(x, 0) = phi_bar + amplitude * rand(x), rand in [-1, 1]
   std::uint64_t seed = 1;
 

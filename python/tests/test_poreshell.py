@@ -128,8 +128,12 @@ def test_bad_options():
         poreshell.perforate(poreshell.sphere(20), hole_diameter=4, grade="diagonal:4:8")
     with pytest.raises(ValueError, match="`units`"):
         poreshell.perforate(poreshell.sphere(20), units="furlong")
-    with pytest.raises(ValueError, match="`alpha` cannot be given with `hole_diameter`"):
+    # The library refuses the mixed request, naming the paper's parameter given.
+    with pytest.raises(ValueError, match="`alpha` is one of the paper's parameters.*`hole_diameter`") as e:
         poreshell.perforate(poreshell.sphere(20), hole_diameter=5, alpha=2200)
+    assert e.value.option == "alpha"
+    with pytest.raises(ValueError, match="`iso`.*`spacing`"):
+        poreshell.perforate(poreshell.sphere(20), spacing=8, iso=[0.1])
     with pytest.raises(TypeError, match="alpah"):
         poreshell.perforate(poreshell.sphere(20), alpah=2200)
     with pytest.raises(ValueError, match="`spacing`") as e:  # named for itself, not as hole_diameter

@@ -200,7 +200,8 @@ void read(Options& o, const OptionInfo& info, const json& v) {
     if (!v.is_string()) refuse(info, "a text", v);
     value = v.get<std::string>();
   } else if constexpr (std::is_same_v<T, std::vector<double>>) {
-    if (!v.is_array() || v.empty()) refuse(info, "a list of numbers", v);
+    // Empty: not given (the pore levels' default).
+    if (!v.is_array() || (v.empty() && !(Options{}.*Member).empty())) refuse(info, "a list of numbers", v);
     value.clear();
     for (const json& x : v) value.push_back(number(info, x));
   } else if constexpr (is_list_of_spheres<T>) {
@@ -369,20 +370,27 @@ const std::vector<Row>& rows() {
            "fewer triangles within --max-deviation (the demo bunny: 376 k instead of 724 k) for about six "
            "times the reduction's time"}),
       row<&Options::alpha>(
-          real("alpha", "model", "", 0, kNoLimit, closed, "the model's alpha (2.1)"),
-          {"--alpha", "A", "nonlocal strength α in eq. (2.1) (paper: 1400 sphere and torus, 2200 bunny)"}),
+          real("alpha", "model", "", 0, kNoLimit, closed,
+               "the model's alpha (2.1); null: 1400, the paper's (not with holes in mm)"),
+          {"--alpha", "A",
+           "nonlocal strength α in eq. (2.1) (default 1400, the paper's sphere and torus; its bunny: 2200)"}),
       row<&Options::epsilon_m>(
-          real("epsilon_m", "model", "", 0, kNoLimit, open, "epsilon = m h / (2 sqrt 2 atanh 0.9)"),
-          {"--epsilon-m", "M", "interface width m in ε_m = m h / (2√2 tanh⁻¹ 0.9) (paper: 4)"}),
-      row<&Options::dt_h>(real("dt_h", "model", "h", 0, kNoLimit, open, "time step in units of h"),
-                          {"--dt-h", "K", "time step Δt in units of h, Δt = K h (paper: 100)"}),
-      row<&Options::iso>(levels("iso", "output", -1, 1, "pore levels, one output each"),
-                         {"--iso", "C[,C...]",
-                          "isosurface level(s) φ = C of the narrow volume, comma-separated or repeated "
-                          "(paper: 0.3, 0, -0.3)"}),
+          real("epsilon_m", "model", "", 0, kNoLimit, open,
+               "epsilon = m h / (2 sqrt 2 atanh 0.9); null: 4, the paper's (not with holes in mm)"),
+          {"--epsilon-m", "M", "interface width m in ε_m = m h / (2√2 tanh⁻¹ 0.9) (default 4, the paper's)"}),
+      row<&Options::dt_h>(real("dt_h", "model", "h", 0, kNoLimit, open,
+                               "time step in units of h; null: 100, the paper's (not with holes in mm)"),
+                          {"--dt-h", "K", "time step Δt in units of h, Δt = K h (default 100, the paper's)"}),
+      row<&Options::iso>(
+          levels("iso", "output", -1, 1, "pore levels, one output each; empty: 0 (not with holes in mm)"),
+          {"--iso", "C[,C...]",
+           "isosurface level(s) φ = C of the narrow volume, comma-separated or repeated "
+           "(default 0; the paper's figures: 0.3, 0, -0.3)"}),
       row<&Options::phi_bar>(
-          real("phi_bar", "model", "", -1, 1, open, "mean of phi (the solid share)", below_max),
-          {"--phi-bar", "F", "mean concentration φ̄ in eq. (2.1), sets the pore fraction (paper: -0.3)"}),
+          real("phi_bar", "model", "", -1, 1, open,
+               "mean of phi (the solid share); null: -0.3, the paper's (not with holes in mm)", below_max),
+          {"--phi-bar", "F",
+           "mean concentration φ̄ in eq. (2.1), sets the pore fraction (default -0.3, the paper's)"}),
       // After the model rows they replace: the CLI adds flags in this order, and CLI11 names the first
       // flag given in a clash ("--alpha excludes --hole-diameter").
       row<&Options::hole_diameter>(

@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 #include "core/error.hpp"
 #include "core/heap.hpp"
@@ -406,6 +407,13 @@ PreparedInput prepare_input(const Input& input, const Options& given) {
   Options& options = prepared.options;
   options = given;
   if (options.preview) options.coarse_start = false;
+  // The paper's model where it is not given; holes in mm then set the level and the mean.
+  for (auto [value, paper] : {std::pair{&options.alpha, PaperModel::alpha},
+                              {&options.epsilon_m, PaperModel::epsilon_m},
+                              {&options.dt_h, PaperModel::dt_h},
+                              {&options.phi_bar, PaperModel::phi_bar}})
+    if (std::isnan(*value)) *value = paper;
+  if (options.iso.empty()) options.iso = {PaperModel::iso};
   if (holes_in_mm(options)) {
     prepared.plan = plan_pattern({given.hole_diameter, given.spacing, given.porosity});
     options.voxel_size = choose_voxel_size(options.voxel_size, *prepared.plan);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <utility>
 
 #include "band/band.hpp"
 #include "core/error.hpp"
@@ -51,11 +52,22 @@ void validate(const Options& c) {
       c.rim > 0.0 || !c.keep_out.empty() || !c.keep_out_boxes.empty() || !c.keep_out_mask.empty();
   require(!zones || c.solver == SolverKind::fast, "solver",
           "`rim` and `keep_out` act through the fast solver: use `solver` fast");
-  require(!c.iso.empty(), "iso", "give at least one `iso` level");
   for (std::size_t i = 0; i < c.iso.size(); ++i)
     for (std::size_t j = 0; j < i; ++j)
       require(c.iso[j] != c.iso[i], "iso", "`iso` lists the same level twice");
   const bool holes = c.hole_diameter > 0.0 || c.spacing > 0.0 || c.porosity > 0.0;
+  // One way of asking: the hole map sets the paper's model from holes in mm, so a given one would be
+  // silently ignored (issue 48).
+  const char* hole = c.hole_diameter > 0.0 ? "hole_diameter" : c.spacing > 0.0 ? "spacing" : "porosity";
+  for (const auto& [name, given] : {std::pair{"alpha", !std::isnan(c.alpha)},
+                                    {"epsilon_m", !std::isnan(c.epsilon_m)},
+                                    {"dt_h", !std::isnan(c.dt_h)},
+                                    {"phi_bar", !std::isnan(c.phi_bar)},
+                                    {"iso", !c.iso.empty()}})
+    require(!holes || !given, name,
+            fmt::format("`{}` is one of the paper's parameters, which the hole map sets from `{}`: give "
+                        "holes in mm or the paper's parameters, not both",
+                        name, hole));
   require(!c.grade || holes, "grade",
           "`grade` sets hole diameters in mm: add `hole_diameter` MM (and `spacing` MM or `porosity` F)");
   require(c.layout != Layout::cvt || holes, "layout",

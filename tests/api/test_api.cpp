@@ -179,7 +179,17 @@ TEST(Api, EveryOptionsErrorNamesTheOption) {
       {"energy_every", [](Options& o) { o.energy_every = -1; }},
       {"initial_amplitude", [](Options& o) { o.initial_amplitude = -1; }},
       {"threads", [](Options& o) { o.threads = -1; }},
-      {"iso", [](Options& o) { o.iso.clear(); }},
+      // One way of asking (issue 48): a paper's parameter given with holes in mm, even at its default.
+      {"alpha",
+       [](Options& o) {
+         o.hole_diameter = 6;
+         o.alpha = PaperModel::alpha;
+       }},
+      {"iso",
+       [](Options& o) {
+         o.porosity = 0.3;
+         o.iso = {PaperModel::iso};
+       }},
       {"iso", [](Options& o) { o.iso = {1.5}; }},
       {"iso",
        [](Options& o) {

@@ -30,7 +30,7 @@ json settings(const Options& o) {
 json other_value(const OptionInfo& info, const json& now) {
   switch (info.type) {
     case OptionType::number:
-      return now.is_null() ? json(3.0) : json(now.get<double>() == 0.5 ? 0.25 : 0.5);
+      return now.is_null() ? json(0.5) : json(now.get<double>() == 0.5 ? 0.25 : 0.5);
     case OptionType::integer:
       return now.get<std::int64_t>() == 17 ? 18 : 17;
     case OptionType::boolean:
@@ -86,16 +86,25 @@ TEST(OptionTable, SettingsGoRoundUnchanged) {
   o.keep_out = {{{1, 2, 3}, 4}};
   o.keep_out_boxes = {{{0, 0, 0}, {1, 2, 3}}};
   o.rim = 5;
-  o.iso = {0.25, 0.0};
   o.seed = 18446744073709551615ull;  // every bit of a 64-bit seed survives
   o.offset = WallOffset::outside;
   const std::string text = options_to_json(o);
   const Options back = options_from_json(text);
   EXPECT_EQ(options_to_json(back), text);
   EXPECT_EQ(back.seed, o.seed);
-  // The rim's default (not given) is null both ways.
-  EXPECT_TRUE(settings(Options{})["rim"].is_null());
-  EXPECT_TRUE(std::isnan(options_from_json(R"({"rim": null})").rim));
+  // The paper's parameters, the other way of asking.
+  Options paper;
+  paper.alpha = 2200;
+  paper.iso = {0.25, 0.0};
+  paper.phi_bar = -0.25;
+  EXPECT_EQ(options_to_json(options_from_json(options_to_json(paper))), options_to_json(paper));
+  // A default that means "not given" (the rim's, the paper's model's) is null, or an empty list, both ways.
+  const json defaults = settings(Options{});
+  for (const char* name : {"rim", "alpha", "epsilon_m", "dt_h", "phi_bar"})
+    EXPECT_TRUE(defaults[name].is_null()) << name;
+  EXPECT_EQ(defaults["iso"], json::array());
+  EXPECT_TRUE(std::isnan(options_from_json(R"({"rim": null, "alpha": null})").rim));
+  EXPECT_TRUE(options_from_json(R"({"iso": []})").iso.empty());
   // Keep-outs as the studio sends them: [[x, y, z, r]].
   const Options studio = options_from_json(R"({"hole_diameter": 8, "keep_out": [[1, 2, 3, 4]]})");
   ASSERT_EQ(studio.keep_out.size(), 1u);
@@ -128,6 +137,8 @@ TEST(OptionTable, BadValuesAreRefusedNamingTheOption) {
   EXPECT_EQ(refused(R"({"keep_out": [[1, 2, 3]]})").first, "keep_out");
   EXPECT_EQ(refused(R"({"keep_out": [[1, 2, 3, 0]]})").first, "keep_out");  // validate()'s radius > 0
   EXPECT_EQ(refused(R"({"grade": {"kind": "spiral"}})").first, "grade");
+  // The studio's and a project file's way in: holes in mm and a paper's parameter, even at its default.
+  EXPECT_EQ(refused(R"({"hole_diameter": 8, "phi_bar": -0.3})").first, "phi_bar");
   EXPECT_EQ(refused(R"({"threads": -1})").first, "threads");
   EXPECT_EQ(refused(R"({"seed": 1e3})").first, "seed");
   EXPECT_NE(refused("[1, 2]").second.find("JSON object"), std::string::npos);
