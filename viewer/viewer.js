@@ -4,10 +4,8 @@
 (function () {
   'use strict';
 
-  // ---- data ----------------------------------------------------------------------------------------
   function decodeBase64(text) {
-    const binary = atob(text);
-    const bytes = new Uint8Array(binary.length);
+    const binary = atob(text), bytes = new Uint8Array(binary.length);
     for (let i = 0; i < binary.length; ++i) bytes[i] = binary.charCodeAt(i);
     return bytes.buffer;
   }
@@ -45,8 +43,7 @@
   const diameters = holes.map((h) => h.diameter);
   const spacings = holes.map((h) => h.nearest).filter((x) => x > 0);
   const reportHoles = meshReport.holes || {};
-  const dStats = meanCv(diameters);
-  const sStats = meanCv(spacings);
+  const dStats = meanCv(diameters), sStats = meanCv(spacings);
   const figures = {
     count: finite(reportHoles.count) ? reportHoles.count : holes.length,
     diameterMean: finite(reportHoles.diameter_mean_mm) ? reportHoles.diameter_mean_mm : dStats && dStats.mean,
