@@ -11,11 +11,11 @@
 
 #include "core/error.hpp"
 #include "core/units.hpp"
+#include "geometry/mesh_clean.hpp"
 #include "geometry/mesh_surface.hpp"
 #include "geometry/plane_fit.hpp"
 #include "input/point_cloud.hpp"
 #include "input/point_segmentation.hpp"
-#include "io/mesh_io.hpp"
 
 namespace poreshell {
 namespace {
