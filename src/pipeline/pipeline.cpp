@@ -114,7 +114,8 @@ void preview_output(double level, const ZoneOptions& zones, const PlacedSurface&
 
 // The output reduced within `max_deviation` (issue 49): as far as the bound allows by the fans' bounds
 // alone, one attempt that keeps the bound everywhere (mesh_decimate.hpp); to a count, or `lean`, by
-// placed collapses, which reach about half the triangles for several times the time.
+// placed collapses, which reach about half the triangles for several times the time (a count the fans'
+// bounds may reach, by them first).
 void reduce_output(MeshOutput& out, const Options& options, double wall_mm, const StageProgress& progress) {
   const std::int64_t target = options.max_triangles > 0 ? options.max_triangles : 4;
   const DistanceRule rule =

@@ -10,6 +10,7 @@
 #include "geometry/refine.hpp"
 #include "pipeline/solve_stage.hpp"
 #include "pipeline/validate.hpp"
+#include "reduce/mesh_decimate.hpp"
 #include "shell/shell.hpp"
 
 namespace poreshell {
@@ -139,7 +140,13 @@ RunCost estimate_run_cost(const PreparedInput& prepared, bool for_printout) {
     preview_cost(prepared, grid, for_printout, c);
     return c;
   }
-  if (const auto target = static_cast<double>(options.max_triangles); target > 0 && c.triangles > target) {
+  const auto target = static_cast<double>(options.max_triangles);
+  if (target > 0 && c.triangles > target && target >= kBoundsFirstShare * c.triangles) {
+    // A budget the fans' bounds reach (mesh_decimate.hpp): their cost.
+    c.seconds += kBoundSecondsPerTriangle * c.triangles;
+    c.peak_bytes += kBoundBytesPerTriangle * c.triangles;
+    c.triangles = target;
+  } else if (target > 0 && c.triangles > target) {
     c.seconds += kSecondsPerCollapse * 0.5 * (c.triangles - target);
     c.peak_bytes += kReductionBytesPerTriangle * c.triangles;
     c.triangles = target;

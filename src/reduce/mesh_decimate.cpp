@@ -331,23 +331,32 @@ DecimateResult decimate_mesh(TriangleMesh& mesh, const DecimateOptions& options)
   progress.advance(0.03);
 
   double tolerance = options.max_distance * (options.rule == DistanceRule::kPlaced ? kPlacedShare : 1.0);
-  for (int attempt = 0; attempt < kAttempts; ++attempt) {
+  // A budget placed collapses would reach: by the fans' bounds first where they may (attempt -1).
+  const bool bounds_first = options.rule == DistanceRule::kPlaced &&
+                            static_cast<double>(options.max_triangles) >=
+                                kBoundsFirstShare * static_cast<double>(result.triangles_before);
+  const double start = bounds_first ? 0.25 : 0.03;
+  for (int attempt = bounds_first ? -1 : 0; attempt < kAttempts; ++attempt) {
     // The collapses are nearly all of the time, and attempts after the first are rare: the first gets
     // the share up to 0.97, each later one half of what is left.
-    const StageProgress part = progress.part(attempt == 0 ? 0.03 : 1.0 - 0.03 * std::pow(0.5, attempt - 1),
-                                             1.0 - 0.03 * std::pow(0.5, attempt));
+    const StageProgress part =
+        attempt < 0 ? progress.part(0.03, start)
+                    : progress.part(attempt == 0 ? start : 1.0 - 0.03 * std::pow(0.5, attempt - 1),
+                                    1.0 - 0.03 * std::pow(0.5, attempt));
     CollapseCounts counts;
     // The last attempt takes the fans' bounds alone, which hold at every point, at the bound asked: a
     // safety net, where the checked collapses overshot the sampled check three times.
-    const bool last = attempt + 1 == kAttempts;
-    if (last) tolerance = options.max_distance;
-    const DistanceRule rule = last ? DistanceRule::kBoundOnly : options.rule;
+    const bool last = attempt + 1 == kAttempts, by_bounds = last || attempt < 0;
+    const DistanceRule rule = by_bounds ? DistanceRule::kBoundOnly : options.rule;
     const CollapsedMesh collapsed =
         rule == DistanceRule::kPlaced
             ? collapse_edges_placed(ordered, opposite, original, options.max_triangles, tolerance, counts,
                                     part.part(0.0, 0.95))
-            : collapse_edges(ordered, opposite, original, options.max_triangles, tolerance, rule, counts,
+            : collapse_edges(ordered, opposite, original, options.max_triangles,
+                             by_bounds ? options.max_distance : tolerance, rule, counts,
                              part.part(0.0, 0.95));
+    if (attempt < 0 && static_cast<std::int64_t>(collapsed.triangles.size()) > options.max_triangles)
+      continue;  // short of the budget: placed collapses, from the input
     TriangleMesh reduced = compact(ordered, collapsed);
     part.advance(0.96);
     // Both ways: the original vertices, a dense sampling of it, to the reduced surface as well.
@@ -356,14 +365,14 @@ DecimateResult decimate_mesh(TriangleMesh& mesh, const DecimateOptions& options)
       distance = exact_reduced_distance(ordered, reduced, collapsed, options.max_distance);
     part.advance(0.99);
     if (distance > options.max_distance) {
-      tolerance *= 0.9 * options.max_distance / distance;
+      if (attempt >= 0) tolerance *= 0.9 * options.max_distance / distance;
       continue;
     }
     // The collapses' points miss some of a triangle's stray (issue 49: 0.22 mm against 0.05 on the pores'
     // rims): the sampled check, at points the collapses never chose, has the last word.
     const DeviationCheck sampled = sampled_check(original, ordered, collapsed, reduced, options.max_distance);
     if (sampled.max() > options.max_distance) {
-      tolerance *= 0.9 * options.max_distance / sampled.max();
+      if (attempt >= 0) tolerance *= 0.9 * options.max_distance / sampled.max();
       continue;
     }
     result.sampled = sampled;
@@ -372,7 +381,7 @@ DecimateResult decimate_mesh(TriangleMesh& mesh, const DecimateOptions& options)
     result.triangles_after = static_cast<std::int64_t>(reduced.triangles.size());
     result.max_distance = std::max(distance, sampled.max());
     result.collapses = counts;
-    result.attempts = attempt + 1;
+    result.attempts = attempt + (bounds_first ? 2 : 1);
     result.reached_target = result.triangles_after <= options.max_triangles;
     mesh = std::move(reduced);
     return result;

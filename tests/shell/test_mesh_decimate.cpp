@@ -389,6 +389,37 @@ TEST(MeshDecimate, PlacedCollapsesReachFewerTrianglesWithinTheSameBound) {
   }
 }
 
+// Issue 49, item 3: a budget the fans' bounds reach is reached by them, at a fifth of a placed
+// collapse's cost; one they stop short of, by placed collapses from the input. Both within the bound.
+TEST(MeshDecimate, ABudgetTheFansBoundsReachIsReachedByThemFirst) {
+  const TriangleMesh original = porous_shell(6);
+  const auto n = static_cast<double>(original.triangles.size());
+  const auto reduce = [&](double share, double max_distance) {
+    TriangleMesh mesh = original;
+    DecimateOptions options{static_cast<std::int64_t>(std::ceil(share * n)), max_distance};
+    options.rule = DistanceRule::kPlaced;
+    const DecimateResult result = decimate_mesh(mesh, options);
+    expect_faithful(original, mesh, options, result);
+    EXPECT_TRUE(result.reached_target) << share << " at " << max_distance;
+    std::printf("budget %.2f of %.0f at %g: %lld triangles, %lld bounded, %lld checked, %d attempts\n", share,
+                n, max_distance, static_cast<long long>(result.triangles_after),
+                static_cast<long long>(result.collapses.bounded),
+                static_cast<long long>(result.collapses.checked), result.attempts);
+    return result;
+  };
+  const DecimateResult loose = reduce(kBoundsFirstShare, 0.05);
+  EXPECT_GT(loose.collapses.bounded, 0);
+  EXPECT_EQ(loose.collapses.checked, 0);
+  EXPECT_EQ(loose.attempts, 1);
+  const DecimateResult tight = reduce(kBoundsFirstShare, 0.02);  // the fans' bounds stop short here
+  EXPECT_EQ(tight.collapses.bounded, 0);
+  EXPECT_GT(tight.collapses.checked, 0);
+  EXPECT_EQ(tight.attempts, 2);
+  const DecimateResult small = reduce(0.25, 0.05);  // under the share: placed collapses at once
+  EXPECT_EQ(small.collapses.bounded, 0);
+  EXPECT_EQ(small.attempts, 1);
+}
+
 TEST(MeshDecimate, PlacedCollapsesAreTheSameOnAnyThreadCount) {
   const TriangleMesh original = porous_shell(2);
   TriangleMesh a = original, b = original;
